@@ -1,0 +1,461 @@
+//! Planar polygons: validation, derived quantities, half-space clipping, triangulation.
+//!
+//! Conventions (design.md): a polygon is a list of n >= 3 vertices, counter-clockwise seen
+//! from its front; the normal follows the right-hand rule. Every tolerance is relative to
+//! the polygon's own size, so the same polygon in metres and millimetres behaves the same.
+
+pub use glam::DVec3 as Vec3;
+
+/// Relative planarity tolerance: the largest allowed distance of a vertex from the
+/// best-fit plane, as a fraction of the polygon's diameter.
+pub const DEFAULT_PLANARITY_TOL: f64 = 1e-6;
+
+/// Relative tolerance below which two points (or a point and a plane) count as coincident.
+pub const COINCIDENT_TOL: f64 = 1e-12;
+
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum GeometryError {
+    #[error("vertex {0} has a NaN or infinite coordinate")]
+    NonFinite(usize),
+    #[error("needs at least 3 distinct vertices, has {0}")]
+    TooFewVertices(usize),
+    #[error("has zero area (all vertices collinear or coincident)")]
+    ZeroArea,
+    #[error("is not planar: vertex {vertex} lies {relative:.2e} (relative to the polygon size) off its plane, tolerance {tol:.1e}")]
+    NonPlanar { vertex: usize, relative: f64, tol: f64 },
+    #[error("has a self-intersecting outline: edges {0} and {1} cross")]
+    SelfIntersecting(usize, usize),
+}
+
+/// A validated planar polygon with its derived quantities.
+#[derive(Debug, Clone)]
+pub struct Polygon {
+    vertices: Vec<Vec3>,
+    normal: Vec3,
+    area: f64,
+    centroid: Vec3,
+    radius: f64,
+}
+
+impl Polygon {
+    /// Validates `vertices` with the default planarity tolerance.
+    pub fn new(vertices: Vec<Vec3>) -> Result<Self, GeometryError> {
+        Self::with_tolerance(vertices, DEFAULT_PLANARITY_TOL)
+    }
+
+    /// Validates `vertices`; `planarity_tol` is relative to the polygon's diameter.
+    /// Consecutive repeated vertices (and a closing vertex equal to the first) are dropped.
+    pub fn with_tolerance(vertices: Vec<Vec3>, planarity_tol: f64) -> Result<Self, GeometryError> {
+        if let Some(i) = vertices.iter().position(|v| !v.is_finite()) {
+            return Err(GeometryError::NonFinite(i));
+        }
+        let scale = bounding_diameter(&vertices);
+        let vertices = drop_repeated(vertices, COINCIDENT_TOL * scale);
+        if vertices.len() < 3 {
+            return Err(GeometryError::TooFewVertices(vertices.len()));
+        }
+        let nv = newell_normal(&vertices);
+        let twice_area = nv.length();
+        if !(twice_area > 1e-14 * scale * scale) {
+            // A bow-tie has zero net area but is not degenerate: name the real problem.
+            if let Some(n) = widest_cross(&vertices).filter(|n| n.length() > 1e-14 * scale * scale) {
+                if let Some((a, b)) = self_intersection(&vertices, n.normalize()) {
+                    return Err(GeometryError::SelfIntersecting(a, b));
+                }
+            }
+            return Err(GeometryError::ZeroArea);
+        }
+        let normal = nv / twice_area;
+        let centroid = area_centroid(&vertices, normal);
+        // Planarity: distance of each vertex from the plane through the centroid.
+        for (i, v) in vertices.iter().enumerate() {
+            let rel = (v - centroid).dot(normal).abs() / scale;
+            if rel > planarity_tol {
+                return Err(GeometryError::NonPlanar { vertex: i, relative: rel, tol: planarity_tol });
+            }
+        }
+        if vertices.len() > 3 {
+            if let Some((a, b)) = self_intersection(&vertices, normal) {
+                return Err(GeometryError::SelfIntersecting(a, b));
+            }
+        }
+        let radius = vertices.iter().map(|v| v.distance(centroid)).fold(0.0, f64::max);
+        Ok(Polygon { vertices, normal, area: 0.5 * twice_area, centroid, radius })
+    }
+
+    pub fn vertices(&self) -> &[Vec3] {
+        &self.vertices
+    }
+    /// Unit normal (right-hand rule).
+    pub fn normal(&self) -> Vec3 {
+        self.normal
+    }
+    pub fn area(&self) -> f64 {
+        self.area
+    }
+    /// Area centroid (lies on the polygon's plane).
+    pub fn centroid(&self) -> Vec3 {
+        self.centroid
+    }
+    /// Radius of the smallest centroid-centred sphere containing the polygon.
+    pub fn radius(&self) -> f64 {
+        self.radius
+    }
+    /// True if `point` lies strictly in front of the polygon's plane (beyond `tol` * radius).
+    pub fn in_front(&self, point: Vec3, tol: f64) -> bool {
+        (point - self.centroid).dot(self.normal) > tol * self.radius
+    }
+    /// Triangulation of the (possibly concave) outline as vertex-index triples.
+    pub fn triangulate(&self) -> Vec<[usize; 3]> {
+        triangulate(&self.vertices, self.normal)
+    }
+}
+
+/// Newell's normal: a vector along the polygon normal whose length is twice the area.
+/// Exact for planar polygons, convex or concave, and robust for nearly degenerate ones.
+pub fn newell_normal(v: &[Vec3]) -> Vec3 {
+    let n = v.len();
+    let o = v[0]; // shifting the origin improves rounding for far-away polygons
+    let mut acc = Vec3::ZERO;
+    for i in 1..n.saturating_sub(1) {
+        acc += (v[i] - o).cross(v[i + 1] - o);
+    }
+    acc
+}
+
+/// Largest distance between the bounding-box corners (cheap size measure for tolerances).
+pub fn bounding_diameter(v: &[Vec3]) -> f64 {
+    let mut lo = Vec3::splat(f64::INFINITY);
+    let mut hi = Vec3::splat(f64::NEG_INFINITY);
+    for p in v {
+        lo = lo.min(*p);
+        hi = hi.max(*p);
+    }
+    if v.is_empty() {
+        0.0
+    } else {
+        (hi - lo).length()
+    }
+}
+
+/// The largest cross product (v_i - v_0) x (v_{i+1} - v_0): a plane normal even when the
+/// signed area cancels.
+fn widest_cross(v: &[Vec3]) -> Option<Vec3> {
+    (1..v.len() - 1)
+        .map(|i| (v[i] - v[0]).cross(v[i + 1] - v[0]))
+        .max_by(|a, b| a.length().total_cmp(&b.length()))
+}
+
+fn drop_repeated(v: Vec<Vec3>, tol: f64) -> Vec<Vec3> {
+    let mut out: Vec<Vec3> = Vec::with_capacity(v.len());
+    for p in v {
+        if out.last().map_or(true, |q| q.distance(p) > tol) {
+            out.push(p);
+        }
+    }
+    while out.len() > 1 && out[0].distance(*out.last().unwrap()) <= tol {
+        out.pop();
+    }
+    out
+}
+
+/// Area centroid of a planar polygon (signed fan decomposition, valid for concave outlines).
+fn area_centroid(v: &[Vec3], normal: Vec3) -> Vec3 {
+    let o = v[0];
+    let mut acc = Vec3::ZERO;
+    let mut total = 0.0;
+    for i in 1..v.len() - 1 {
+        let a = (v[i] - o).cross(v[i + 1] - o).dot(normal);
+        acc += a * (o + v[i] + v[i + 1]) / 3.0;
+        total += a;
+    }
+    acc / total
+}
+
+/// Orthonormal tangent basis (t, b) with t x b = n.
+pub fn tangent_frame(n: Vec3) -> (Vec3, Vec3) {
+    // Duff et al. 2017, "Building an orthonormal basis, revisited".
+    let sign = 1f64.copysign(n.z);
+    let a = -1.0 / (sign + n.z);
+    let b = n.x * n.y * a;
+    let t = Vec3::new(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x);
+    let bb = Vec3::new(b, sign + n.y * n.y * a, -n.y);
+    (t, bb)
+}
+
+/// Projects onto the plane with normal `n` in 2-D coordinates (right-handed about n).
+fn project_2d(v: &[Vec3], n: Vec3) -> Vec<[f64; 2]> {
+    let (t, b) = tangent_frame(n);
+    let o = v[0];
+    v.iter().map(|p| [(p - o).dot(t), (p - o).dot(b)]).collect()
+}
+
+fn orient(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> f64 {
+    (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
+}
+
+fn segments_cross(p1: [f64; 2], p2: [f64; 2], q1: [f64; 2], q2: [f64; 2], eps: f64) -> bool {
+    let d1 = orient(q1, q2, p1);
+    let d2 = orient(q1, q2, p2);
+    let d3 = orient(p1, p2, q1);
+    let d4 = orient(p1, p2, q2);
+    if ((d1 > eps && d2 < -eps) || (d1 < -eps && d2 > eps)) && ((d3 > eps && d4 < -eps) || (d3 < -eps && d4 > eps)) {
+        return true;
+    }
+    // Touching or overlapping (collinear) non-adjacent edges also make the outline invalid.
+    let on = |a: [f64; 2], b: [f64; 2], p: [f64; 2], d: f64| {
+        d.abs() <= eps
+            && p[0] >= a[0].min(b[0]) - 1e-12
+            && p[0] <= a[0].max(b[0]) + 1e-12
+            && p[1] >= a[1].min(b[1]) - 1e-12
+            && p[1] <= a[1].max(b[1]) + 1e-12
+    };
+    on(q1, q2, p1, d1) || on(q1, q2, p2, d2) || on(p1, p2, q1, d3) || on(p1, p2, q2, d4)
+}
+
+/// Returns a pair of non-adjacent edges that cross or touch, if any (O(n^2), n is small).
+fn self_intersection(v: &[Vec3], n: Vec3) -> Option<(usize, usize)> {
+    let p = project_2d(v, n);
+    let m = p.len();
+    let scale = bounding_diameter(v);
+    let eps = 1e-12 * scale * scale;
+    for i in 0..m {
+        for j in i + 2..m {
+            if i == 0 && j == m - 1 {
+                continue; // adjacent through the closing edge
+            }
+            if segments_cross(p[i], p[(i + 1) % m], p[j], p[(j + 1) % m], eps) {
+                return Some((i, j));
+            }
+        }
+    }
+    None
+}
+
+/// Ear-clipping triangulation of a simple planar polygon (convex or concave).
+pub fn triangulate(v: &[Vec3], n: Vec3) -> Vec<[usize; 3]> {
+    let m = v.len();
+    if m == 3 {
+        return vec![[0, 1, 2]];
+    }
+    let p = project_2d(v, n);
+    let mut idx: Vec<usize> = (0..m).collect();
+    let mut tris = Vec::with_capacity(m - 2);
+    let scale = bounding_diameter(v);
+    let eps = 1e-14 * scale * scale;
+    let mut guard = 0;
+    while idx.len() > 3 && guard < 4 * m * m {
+        guard += 1;
+        let k = idx.len();
+        let mut clipped = false;
+        for e in 0..k {
+            let (ia, ib, ic) = (idx[(e + k - 1) % k], idx[e], idx[(e + 1) % k]);
+            if orient(p[ia], p[ib], p[ic]) <= eps {
+                continue; // reflex or degenerate corner
+            }
+            let inside = idx.iter().any(|&q| {
+                q != ia
+                    && q != ib
+                    && q != ic
+                    && orient(p[ia], p[ib], p[q]) >= -eps
+                    && orient(p[ib], p[ic], p[q]) >= -eps
+                    && orient(p[ic], p[ia], p[q]) >= -eps
+            });
+            if !inside {
+                tris.push([ia, ib, ic]);
+                idx.remove(e);
+                clipped = true;
+                break;
+            }
+        }
+        if !clipped {
+            // Only collinear remnants are left: fan them, they carry no area.
+            break;
+        }
+    }
+    for e in 1..idx.len().saturating_sub(1) {
+        tris.push([idx[0], idx[e], idx[e + 1]]);
+    }
+    tris
+}
+
+/// Sutherland-Hodgman clip of a planar polygon to the closed half-space n.(x - p) >= 0.
+/// Vertices within `tol` (absolute distance) of the plane count as on it, so a polygon that
+/// touches the plane along an edge keeps that edge exactly and grows no slivers.
+pub fn clip_to_halfspace(v: &[Vec3], p: Vec3, n: Vec3, tol: f64, out: &mut Vec<Vec3>) {
+    out.clear();
+    let m = v.len();
+    if m == 0 {
+        return;
+    }
+    let d: Vec<f64> = v
+        .iter()
+        .map(|x| {
+            let s = (x - p).dot(n);
+            if s.abs() <= tol { 0.0 } else { s }
+        })
+        .collect();
+    if d.iter().all(|&s| s >= 0.0) {
+        out.extend_from_slice(v);
+        return;
+    }
+    if d.iter().all(|&s| s <= 0.0) {
+        return;
+    }
+    for i in 0..m {
+        let j = (i + 1) % m;
+        let (a, b, da, db) = (v[i], v[j], d[i], d[j]);
+        if da >= 0.0 {
+            out.push(a);
+        }
+        if (da > 0.0 && db < 0.0) || (da < 0.0 && db > 0.0) {
+            let t = da / (da - db);
+            out.push(a + (b - a) * t);
+        }
+    }
+    // A clipped polygon may carry vertices repeated where a vertex lay on the plane.
+    let scale = bounding_diameter(out);
+    let cleaned = drop_repeated(std::mem::take(out), COINCIDENT_TOL * scale);
+    *out = cleaned;
+}
+
+/// Clips each polygon of a pair to the other's front half-space (needed before any contour
+/// formula: a polygon partly behind the other's plane would otherwise give wrong F, even 0).
+/// Returns None when nothing of either polygon is in front of the other.
+pub fn clip_pair(a: &Polygon, b: &Polygon) -> Option<(Vec<Vec3>, Vec<Vec3>)> {
+    let tol_a = COINCIDENT_TOL * 1e2 * (a.radius + b.radius);
+    let mut ca = Vec::with_capacity(a.vertices.len() + 2);
+    let mut cb = Vec::with_capacity(b.vertices.len() + 2);
+    clip_to_halfspace(&a.vertices, b.centroid, b.normal, tol_a, &mut ca);
+    clip_to_halfspace(&b.vertices, a.centroid, a.normal, tol_a, &mut cb);
+    if ca.len() < 3 || cb.len() < 3 {
+        return None;
+    }
+    // A polygon lying entirely in the other's plane (coplanar pair) exchanges nothing.
+    let scale = a.radius + b.radius;
+    let area_a = 0.5 * newell_normal(&ca).length();
+    let area_b = 0.5 * newell_normal(&cb).length();
+    if area_a <= 1e-14 * scale * scale || area_b <= 1e-14 * scale * scale {
+        return None;
+    }
+    let off_a = ca.iter().map(|x| (x - b.centroid).dot(b.normal)).fold(0.0, f64::max);
+    let off_b = cb.iter().map(|x| (x - a.centroid).dot(a.normal)).fold(0.0, f64::max);
+    if off_a <= tol_a || off_b <= tol_a {
+        return None;
+    }
+    Some((ca, cb))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn sq(s: f64) -> Vec<Vec3> {
+        vec![Vec3::new(0., 0., 0.), Vec3::new(s, 0., 0.), Vec3::new(s, s, 0.), Vec3::new(0., s, 0.)]
+    }
+
+    #[test]
+    fn square_quantities() {
+        let p = Polygon::new(sq(2.0)).unwrap();
+        assert!((p.area() - 4.0).abs() < 1e-15);
+        assert!((p.normal() - Vec3::Z).length() < 1e-15);
+        assert!((p.centroid() - Vec3::new(1., 1., 0.)).length() < 1e-15);
+        assert!((p.radius() - 2f64.sqrt()).abs() < 1e-15);
+    }
+
+    #[test]
+    fn clockwise_square_faces_down() {
+        let mut v = sq(1.0);
+        v.reverse();
+        assert!((Polygon::new(v).unwrap().normal() + Vec3::Z).length() < 1e-15);
+    }
+
+    #[test]
+    fn concave_l_shape_area_and_triangulation() {
+        let v = vec![
+            Vec3::new(0., 0., 0.),
+            Vec3::new(2., 0., 0.),
+            Vec3::new(2., 1., 0.),
+            Vec3::new(1., 1., 0.),
+            Vec3::new(1., 2., 0.),
+            Vec3::new(0., 2., 0.),
+        ];
+        let p = Polygon::new(v.clone()).unwrap();
+        assert!((p.area() - 3.0).abs() < 1e-14);
+        let tri_area: f64 = p
+            .triangulate()
+            .iter()
+            .map(|t| 0.5 * (v[t[1]] - v[t[0]]).cross(v[t[2]] - v[t[0]]).dot(Vec3::Z))
+            .sum();
+        assert!((tri_area - 3.0).abs() < 1e-14, "{tri_area}");
+        // every triangle is positively oriented (no ear across the notch)
+        for t in p.triangulate() {
+            assert!((v[t[1]] - v[t[0]]).cross(v[t[2]] - v[t[0]]).z > 0.0);
+        }
+    }
+
+    #[test]
+    fn rejects_bad_input() {
+        let mut v = sq(1.0);
+        v[2].x = f64::NAN;
+        assert_eq!(Polygon::new(v).unwrap_err(), GeometryError::NonFinite(2));
+        assert_eq!(
+            Polygon::new(vec![Vec3::ZERO, Vec3::X, Vec3::X]).unwrap_err(),
+            GeometryError::TooFewVertices(2)
+        );
+        assert_eq!(
+            Polygon::new(vec![Vec3::ZERO, Vec3::X, 2.0 * Vec3::X]).unwrap_err(),
+            GeometryError::ZeroArea
+        );
+        let mut v = sq(1.0);
+        v[2].z = 1e-3;
+        assert!(matches!(Polygon::new(v).unwrap_err(), GeometryError::NonPlanar { .. }));
+        let bow = vec![Vec3::new(0., 0., 0.), Vec3::new(1., 1., 0.), Vec3::new(1., 0., 0.), Vec3::new(0., 1., 0.)];
+        assert!(matches!(Polygon::new(bow).unwrap_err(), GeometryError::SelfIntersecting(..)));
+    }
+
+    #[test]
+    fn planarity_is_scale_relative() {
+        for s in [1e-3, 1.0, 1e3, 1e6] {
+            let mut v = sq(s);
+            v[2].z = 1e-8 * s;
+            assert!(Polygon::new(v).is_ok());
+        }
+    }
+
+    #[test]
+    fn clip_half_square() {
+        let mut out = Vec::new();
+        clip_to_halfspace(&sq(1.0), Vec3::new(0.5, 0., 0.), Vec3::X, 0.0, &mut out);
+        let a = 0.5 * newell_normal(&out).length();
+        assert!((a - 0.5).abs() < 1e-15);
+        assert!(out.iter().all(|p| p.x >= 0.5));
+    }
+
+    #[test]
+    fn clip_pair_piercing() {
+        // algorithms.md 1.4: A2 in x = 0.5 cuts A1's plane; after clipping A2 keeps z >= 0,
+        // A1 keeps x <= 0.5 (the side A2 faces).
+        let a = Polygon::new(sq(1.0)).unwrap();
+        let b = Polygon::new(vec![
+            Vec3::new(0.5, 0., -0.5),
+            Vec3::new(0.5, 0., 0.5),
+            Vec3::new(0.5, 1., 0.5),
+            Vec3::new(0.5, 1., -0.5),
+        ])
+        .unwrap();
+        assert!((b.normal() + Vec3::X).length() < 1e-15);
+        let (ca, cb) = clip_pair(&a, &b).unwrap();
+        assert!(ca.iter().all(|p| p.x <= 0.5 + 1e-15));
+        assert!(cb.iter().all(|p| p.z >= -1e-15));
+        assert!((0.5 * newell_normal(&ca).length() - 0.5).abs() < 1e-15);
+        assert!((0.5 * newell_normal(&cb).length() - 0.5).abs() < 1e-15);
+    }
+
+    #[test]
+    fn coplanar_pair_exchanges_nothing() {
+        let a = Polygon::new(sq(1.0)).unwrap();
+        let b = Polygon::new(sq(1.0).into_iter().map(|p| p + Vec3::X).collect()).unwrap();
+        assert!(clip_pair(&a, &b).is_none());
+    }
+}

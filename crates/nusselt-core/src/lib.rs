@@ -1,0 +1,10 @@
+//! nusselt-core: form factors (view factors) between planar polygons.
+//!
+//! Pure Rust, no Python and no file I/O: flat arrays and [`geometry::Polygon`]s in, numbers
+//! and sparse rows out. The Python package `nusselt` wraps this crate.
+
+pub mod error;
+pub mod geometry;
+
+pub use error::Error;
+pub use geometry::{Polygon, Vec3};
