@@ -5,6 +5,7 @@
 
 pub mod error;
 pub mod geometry;
+pub mod visibility;
 
 pub use error::Error;
 pub use geometry::{Polygon, Vec3};

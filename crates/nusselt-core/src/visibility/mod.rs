@@ -1,0 +1,27 @@
+//! Visibility: which polygon a ray hits first, whether a segment is blocked, and which
+//! polygons can block a pair at all. Every method with visibility goes through [`Visibility`].
+//! Obstacles are opaque from both sides.
+
+use crate::geometry::{Polygon, Vec3};
+
+/// Ids are indices into the scene's polygon list.
+pub trait Visibility: Sync {
+    /// First polygon hit by `origin + t * dir` for t in (tmin, tmax), skipping the ids in
+    /// `ignore`. Returns the id, the ray parameter t and whether the front side was hit
+    /// (dir . normal < 0).
+    fn first_hit(&self, origin: Vec3, dir: Vec3, tmin: f64, tmax: f64, ignore: &[u32]) -> Option<Hit>;
+
+    /// True if any polygon other than those in `ignore` blocks the open segment a -> b.
+    fn occluded(&self, a: Vec3, b: Vec3, ignore: &[u32]) -> bool;
+
+    /// Ids of polygons (other than `ignore`) that may intersect the region between the two
+    /// polygons (a conservative shaft test): the candidate blockers of the pair.
+    fn candidates_between(&self, a: &Polygon, b: &Polygon, ignore: &[u32], out: &mut Vec<u32>);
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Hit {
+    pub id: u32,
+    pub t: f64,
+    pub front: bool,
+}
