@@ -5,6 +5,7 @@
 
 pub mod error;
 pub mod geometry;
+pub mod matrix;
 pub mod visibility;
 
 pub use error::Error;
