@@ -1,0 +1,15 @@
+"""nusselt: fast and exact form factors (view factors) between planar polygons.
+
+>>> import nusselt
+>>> nusselt.view_factor(square, other_square)            # exact, unobstructed
+>>> scene = nusselt.Scene.from_file("room.obj")
+>>> result = nusselt.form_factors(scene)                  # F[i, j], row = source
+"""
+
+from ._core import __version__
+from .api import form_factors, point_view_factor, view_factor
+from .methods import METHODS
+from .result import FormFactors
+from .scene import Scene
+
+__all__ = ["Scene", "FormFactors", "METHODS", "form_factors", "view_factor", "point_view_factor", "__version__"]

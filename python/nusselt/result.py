@@ -1,0 +1,123 @@
+"""The form-factor matrix of a scene, with its areas, names and error measures."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+import scipy.sparse as sp
+
+
+@dataclass
+class FormFactors:
+    """F[i, j]: the fraction of the radiation leaving row i that reaches column j.
+
+    Attributes
+    ----------
+    matrix : scipy.sparse.csr_array or numpy.ndarray
+        The form factors (row = source).
+    areas : ndarray
+        Area of each row/column.
+    names : list of str
+        Name of each row/column (patch labels, or surface names after :meth:`by_surface`).
+    faces : ndarray
+        For patch-level results, the scene face index of each row; for surface-level
+        results, the index into the scene's surface names.
+    surface : ndarray or None
+        For patch-level results, the surface index of each row (used by :meth:`by_surface`).
+    surface_names : list of str or None
+    method : str
+    std_err : sparse array or None
+        Standard error of each entry for sampling methods.
+    lost : ndarray or None
+        Per row, the part of the hemisphere a row method did not assign (e.g. the horizon band
+        of the single-plane method).
+    """
+
+    matrix: object
+    areas: np.ndarray
+    names: list
+    faces: np.ndarray
+    method: str
+    surface: np.ndarray | None = None
+    surface_names: list | None = None
+    std_err: object = None
+    lost: np.ndarray | None = None
+    info: dict = field(default_factory=dict)
+
+    def __len__(self) -> int:
+        return len(self.areas)
+
+    def dense(self) -> np.ndarray:
+        m = self.matrix
+        return m.toarray() if sp.issparse(m) else np.asarray(m)
+
+    @property
+    def row_sums(self) -> np.ndarray:
+        return np.asarray(self.matrix.sum(axis=1)).ravel()
+
+    @property
+    def closure_error(self) -> float:
+        """max_i |sum_j F_ij - 1| (meaningful for closed enclosures)."""
+        return float(np.max(np.abs(self.row_sums - 1.0))) if len(self) else 0.0
+
+    @property
+    def reciprocity_error(self) -> float:
+        """max_ij |A_i F_ij - A_j F_ji| / max(A_i F_ij, A_j F_ji), over nonzero pairs."""
+        g = _as_sparse(self.matrix).multiply(self.areas[:, None]).tocsr()
+        gt = g.T.tocsr()
+        diff = abs(g - gt)
+        scale = g.maximum(gt)
+        diff, scale = diff.tocoo(), scale.tocsr()
+        if diff.nnz == 0:
+            return 0.0
+        den = np.asarray(scale[diff.row, diff.col]).ravel()
+        ok = den > 0
+        return float(np.max(diff.data[ok] / den[ok])) if ok.any() else 0.0
+
+    def by_surface(self) -> "FormFactors":
+        """The same result aggregated to named surfaces with the form-factor algebra:
+        additivity over receivers and area-weighted composition of sources,
+        F_(S->T) = sum_{i in S, j in T} A_i F_ij / sum_{i in S} A_i."""
+        if self.surface is None:
+            raise ValueError("this result is already per surface")
+        used = np.unique(self.surface)
+        col = np.searchsorted(used, self.surface)
+        n, m = len(self.areas), len(used)
+        s = sp.csr_array((np.ones(n), (np.arange(n), col)), shape=(n, m))
+        g = _as_sparse(self.matrix).multiply(self.areas[:, None]).tocsr()
+        gs = (s.T @ g @ s).tocsr()
+        a = s.T @ self.areas
+        fs = sp.csr_array(gs.multiply(1.0 / a[:, None]))
+        std = None
+        if self.std_err is not None:
+            # independent entries: variances add with the squared area weights
+            v = _as_sparse(self.std_err).power(2).multiply(self.areas[:, None] ** 2).tocsr()
+            vs = (s.T @ v @ s).tocsr()
+            std = sp.csr_array(vs.sqrt().multiply(1.0 / a[:, None]))
+        lost = None
+        if self.lost is not None:
+            lost = (s.T @ (self.lost * self.areas)) / a
+        names = [self.surface_names[k] for k in used] if self.surface_names else [str(k) for k in used]
+        matrix = fs if sp.issparse(self.matrix) else fs.toarray()
+        return FormFactors(matrix, a, names, used, self.method, None, None, std, lost, dict(self.info))
+
+    def summary(self) -> str:
+        """A readable table (small results) or summary statistics (large ones)."""
+        lines = [
+            f"{len(self)} x {len(self)} form factors, method {self.method!r}",
+            f"max |row sum - 1| = {self.closure_error:.3e}   reciprocity error = {self.reciprocity_error:.3e}",
+        ]
+        if len(self) <= 12:
+            f = self.dense()
+            w = max(8, max(len(n) for n in self.names))
+            lines.append(" " * (w + 12) + "".join(f"{n[:10]:>11}" for n in self.names) + "       sum")
+            lines.append(f"{'from':<{w}} {'area':>11}")
+            for i, n in enumerate(self.names):
+                row = "".join(f"{x:11.6f}" for x in f[i])
+                lines.append(f"{n:<{w}} {self.areas[i]:11.5g}{row}{f[i].sum():10.6f}")
+        return "\n".join(lines)
+
+
+def _as_sparse(m):
+    return m if sp.issparse(m) else sp.csr_array(m)
