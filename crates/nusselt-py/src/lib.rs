@@ -15,5 +15,13 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<scene::SceneCore>()?;
     m.add_function(wrap_pyfunction!(pair::view_factor, m)?)?;
     m.add_function(wrap_pyfunction!(pair::point_view_factor, m)?)?;
+    m.add_function(wrap_pyfunction!(_panic_guard_selftest, m)?)?;
     Ok(())
+}
+
+/// Deliberately panics inside the guard every binding call uses; the test suite calls it to
+/// prove that a panic reaches Python as a RuntimeError, never as an abort.
+#[pyfunction]
+fn _panic_guard_selftest() -> PyResult<()> {
+    errors::guard(|| -> Result<(), nusselt_core::Error> { panic!("self-test panic") })
 }

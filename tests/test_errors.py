@@ -1,0 +1,83 @@
+"""Bad input gets a clear exception naming the problem; never a crash or a Rust panic."""
+
+import numpy as np
+import pytest
+from conftest import rect
+
+import nusselt
+from nusselt import _core
+
+GOOD = rect(0, 1, 0, 1)
+FACING = rect(0, 1, 0, 1, z=1, flip=True)
+
+
+@pytest.mark.parametrize(
+    "poly, message",
+    [
+        (np.array([[0, 0, 0], [1, 0, np.nan], [1, 1, 0], [0, 1, 0]]), "NaN or infinite"),
+        (np.array([[0, 0, 0], [1, 0, np.inf], [1, 1, 0]]), "NaN or infinite"),
+        (np.zeros((4, 2)), "(n, 3)"),
+        (np.zeros(12), "(n, 3)"),
+        (np.array([[0, 0, 0], [1, 0, 0], [1, 0, 0]]), "at least 3 distinct"),
+        (np.array([[0, 0, 0], [1, 0, 0], [2, 0, 0]]), "zero area"),
+        (np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0.01], [0, 1, 0]]), "not planar"),
+        (np.array([[0, 0, 0], [1, 1, 0], [1, 0, 0], [0, 1, 0]]), "self-intersecting"),
+        (np.array([[0, 0, 0], [2, 0, 0], [2, 1, 0], [-1, 0.5, 0], [0, 2, 0]]), "self-intersecting"),
+    ],
+)
+def test_bad_polygons(poly, message):
+    with pytest.raises(ValueError, match=message.replace("(", r"\(").replace(")", r"\)")):
+        nusselt.view_factor(poly, FACING)
+    with pytest.raises(ValueError, match="pj"):
+        nusselt.view_factor(GOOD, poly)
+
+
+def test_bad_methods_and_options():
+    with pytest.raises(ValueError, match="unknown method"):
+        nusselt.view_factor(GOOD, FACING, method="magic")
+    with pytest.raises(TypeError, match="no option"):
+        nusselt.view_factor(GOOD, FACING, method="analytic", nodes=4)
+    with pytest.raises(ValueError, match="outside"):
+        nusselt.view_factor(GOOD, FACING, method="contour", nodes=0)
+    with pytest.raises(ValueError, match="outside"):
+        nusselt.view_factor(GOOD, FACING, method="contour", nodes=10**9)
+    with pytest.raises(TypeError, match="integer"):
+        nusselt.view_factor(GOOD, FACING, method="contour", nodes=2.5)
+    with pytest.raises(ValueError):
+        nusselt.view_factor(GOOD, FACING, tol=float("nan"))
+
+
+def test_obstacles_need_a_visibility_method():
+    with pytest.raises(ValueError, match="obstacles"):
+        nusselt.view_factor(GOOD, FACING, method="analytic", obstacles=[rect(0.2, 0.8, 0.2, 0.8, z=0.5)])
+
+
+def test_bad_points():
+    with pytest.raises(ValueError, match="point"):
+        nusselt.point_view_factor([0, 0], [0, 0, 1], FACING)
+    with pytest.raises(ValueError, match="normal"):
+        nusselt.point_view_factor([0, 0, 0], [0, 0, 0], FACING)
+    with pytest.raises(ValueError, match="point"):
+        nusselt.point_view_factor([0, np.nan, 0], [0, 0, 1], FACING)
+
+
+def test_panics_never_cross_into_python():
+    # the guard every binding call runs in turns a panic into a RuntimeError
+    with pytest.raises(RuntimeError, match="internal error"):
+        _core._panic_guard_selftest()
+
+
+def test_random_garbage_gives_only_clean_errors():
+    rng = np.random.default_rng(7)
+    for _ in range(300):
+        k = int(rng.integers(1, 7))
+        p = rng.normal(size=(k, 3)) * 10.0 ** rng.integers(-8, 8)
+        if rng.random() < 0.2:
+            p[rng.integers(k)] = rng.choice([np.nan, np.inf, 1e308])
+        q = rng.normal(size=(int(rng.integers(3, 6)), 3))
+        for m in ("auto", "analytic", "contour"):
+            try:
+                f = nusselt.view_factor(p, q, method=m)
+            except ValueError:
+                continue
+            assert np.isfinite(f) and 0.0 <= f <= 1.0 + 1e-12

@@ -1,0 +1,63 @@
+"""Scene-level matrices: closure, reciprocity, surfaces, units."""
+
+import numpy as np
+import pytest
+from conftest import cube_faces
+
+import nusselt
+
+C11 = 0.19982489569838746
+C14 = 0.20004377607540316
+
+
+@pytest.mark.parametrize("method", ["auto", "analytic", "contour"])
+def test_subdivided_cube(method):
+    polys, face = cube_faces(3)
+    scene = nusselt.Scene.from_polygons(polys, surface=[f"side{k}" for k in face])
+    res = nusselt.form_factors(scene, method=method)
+    assert res.matrix.shape == (54, 54)
+    assert res.closure_error < 1e-12
+    assert res.reciprocity_error < 1e-12
+    s = res.by_surface()
+    assert s.names == [f"side{k}" for k in range(6)]
+    f = s.dense()
+    assert f[0, 1] == pytest.approx(C11, rel=1e-11)  # opposite faces
+    assert f[0, 2] == pytest.approx(C14, rel=1e-11)  # adjacent faces
+    assert np.allclose(np.diag(f), 0)
+
+
+def test_units_do_not_matter():
+    polys, face = cube_faces(2)
+    a = nusselt.form_factors(nusselt.Scene.from_polygons(polys)).dense()
+    b = nusselt.form_factors(nusselt.Scene.from_polygons([p * 1000.0 for p in polys])).dense()
+    assert np.max(np.abs(a - b)) < 1e-12
+
+
+def test_dense_and_sparse_agree():
+    polys, _ = cube_faces(2)
+    scene = nusselt.Scene.from_polygons(polys)
+    a = nusselt.form_factors(scene).dense()
+    b = nusselt.form_factors(scene, dense=True).matrix
+    assert isinstance(b, np.ndarray) and np.array_equal(a, b)
+
+
+def test_obstruction_only_faces_get_no_row():
+    polys, _ = cube_faces(1)
+    scene = nusselt.Scene.from_polygons(polys, obstruction=[False] * 5 + [True])
+    res = nusselt.form_factors(scene)
+    assert res.matrix.shape == (5, 5)
+    assert list(res.faces) == [0, 1, 2, 3, 4]
+
+
+def test_scene_errors_name_the_face():
+    polys, _ = cube_faces(1)
+    polys[3] = polys[3].copy()
+    polys[3][0, 0] += 0.01  # bend it out of plane
+    with pytest.raises(ValueError, match="face 3 .*not planar"):
+        nusselt.Scene.from_polygons(polys)
+    with pytest.raises(ValueError, match="no faces"):
+        nusselt.Scene(np.zeros((0, 3)), [])
+    with pytest.raises(ValueError, match="refers to vertex 9"):
+        nusselt.Scene(np.zeros((4, 3)), [[0, 1, 9]])
+    with pytest.raises(TypeError):
+        nusselt.form_factors("not a scene")
