@@ -2,10 +2,12 @@
 
 from __future__ import annotations
 
+import os
+
 import numpy as np
 import scipy.sparse as sp
 
-from . import _core
+from . import _core, engine
 from .methods import resolve
 from .result import FormFactors
 from .scene import PLANARITY_TOL, Scene
@@ -65,50 +67,80 @@ def form_factors(
     method: str = "auto",
     dense: bool = False,
     progress: bool = False,
-    block_pairs: int = 2_000_000,
+    checkpoint: str | os.PathLike | None = None,
+    resume: bool = False,
+    block_size: int = 2_000_000,
     **options,
 ) -> FormFactors:
     """The form-factor matrix of a scene: F[i, j] for every pair of receiving polygons.
 
-    Rows are computed in parallel, block by block (Ctrl-C stops between blocks). For pair
-    methods every unordered pair is computed once, so reciprocity A_i F_ij = A_j F_ji holds
-    to rounding. Obstruction-only polygons block but get no row or column.
-    Returns a :class:`FormFactors` whose ``matrix`` is a ``scipy.sparse.csr_array`` (or a
-    dense array with ``dense=True``).
+    Rows are computed in parallel, block by block; Ctrl-C stops between blocks. Pair methods
+    compute every unordered pair once, so reciprocity A_i F_ij = A_j F_ji holds to rounding.
+    Obstruction-only polygons block but get no row or column.
+
+    Parameters
+    ----------
+    method : str
+        One of :data:`nusselt.METHODS`; its options are keyword arguments.
+    dense : bool
+        Return ``matrix`` as a dense ndarray (refused if it would not fit in memory).
+    progress : bool
+        Show a progress bar with rows/s and ETA.
+    checkpoint : path, optional
+        Directory where finished row blocks are written as they complete; with ``resume=True``
+        an interrupted run continues from there and gives the identical matrix.
+    block_size : int
+        Work per block: upper-triangle pairs (pair methods) or row entries (row methods).
+
+    Returns a :class:`FormFactors`; ``matrix`` is a ``scipy.sparse.csr_array`` unless dense.
     """
     if not isinstance(scene, Scene):
         raise TypeError(f"form_factors expects a nusselt.Scene, got {type(scene).__name__}")
+    if not (isinstance(block_size, int) and block_size >= 1):
+        raise ValueError(f"block_size must be a positive integer, got {block_size!r}")
     m, opts = resolve(method, options)
     recv = scene.receivers
-    n_faces = len(scene)
-    col_of = np.full(n_faces, -1, dtype=np.int64)
-    col_of[recv] = np.arange(len(recv))
     nr = len(recv)
+    if dense:
+        _check_dense_fits(nr)
+    col_of = np.full(len(scene), -1, dtype=np.int64)
+    col_of[recv] = np.arange(nr)
 
-    blocks = _pair_blocks(recv, block_pairs)
-    bar = _progress(progress, total=len(recv), desc=f"nusselt {method}")
-    rows_g, cols_g, vals_g = [], [], []
+    kind = m.kind
+    blocks = engine.plan_blocks(recv, kind, block_size)
+    ckpt = None
+    if checkpoint is not None:
+        digest = engine.scene_digest(scene, method, opts, kind, block_size)
+        ckpt = engine.Checkpoint(checkpoint, digest, len(blocks), resume)
+
+    def compute(rows):
+        if kind == "pairs":
+            return engine.Block(rows, *scene._core.pair_rows(rows, method, opts))
+        return engine.Block(rows, *scene._core.full_rows(rows, method, opts))
+
+    bar = _progress(progress, total=nr, desc=f"nusselt {method}")
     try:
-        for block in blocks:
-            indptr, indices, data = scene._core.pair_rows(block, method, opts)
-            counts = np.diff(indptr)
-            rows_g.append(np.repeat(col_of[block], counts))
-            cols_g.append(col_of[indices])
-            vals_g.append(data)
-            if bar is not None:
-                bar.update(len(block))
+        done = engine.run_blocks(compute, blocks, checkpoint=ckpt, progress_bar=bar)
     finally:
         if bar is not None:
             bar.close()
-    r = np.concatenate(rows_g) if rows_g else np.zeros(0, np.int64)
-    c = np.concatenate(cols_g) if cols_g else np.zeros(0, np.int64)
-    g = np.concatenate(vals_g) if vals_g else np.zeros(0)
+
     areas = scene.areas[recv]
-    # G is symmetric: mirror the upper triangle, then F = G / A_row.
-    rr = np.concatenate([r, c])
-    cc = np.concatenate([c, r])
-    f = np.concatenate([g / areas[r], g / areas[c]])
-    matrix = sp.csr_array((f, (rr, cc)), shape=(nr, nr))
+    r = np.concatenate([np.repeat(col_of[b.rows], np.diff(b.indptr)) for b in done]) if done else np.zeros(0, int)
+    c = np.concatenate([col_of[b.indices] for b in done]) if done else np.zeros(0, int)
+    v = np.concatenate([b.data for b in done]) if done else np.zeros(0)
+    std = lost = None
+    if kind == "pairs":
+        # G is symmetric: mirror the upper triangle, then F = G / A_row.
+        r, c, v = np.concatenate([r, c]), np.concatenate([c, r]), np.concatenate([v / areas[r], v / areas[c]])
+    else:
+        if done and done[0].std is not None:
+            sd = np.concatenate([b.std for b in done])
+            std = sp.csr_array((sd, (r, c)), shape=(nr, nr))
+        if done and done[0].lost is not None:
+            lost = np.zeros(nr)
+            lost[col_of[np.concatenate([b.rows for b in done])]] = np.concatenate([b.lost for b in done])
+    matrix = sp.csr_array((v, (r, c)), shape=(nr, nr))
     matrix.sum_duplicates()
     matrix.sort_indices()
     names = [f"{scene.surface_names[scene.surface[k]]}[{k}]" for k in recv]
@@ -120,20 +152,23 @@ def form_factors(
         method,
         surface=scene.surface[recv],
         surface_names=scene.surface_names,
+        std_err=std,
+        lost=lost,
         info={"options": opts},
     )
 
 
-def _pair_blocks(recv: np.ndarray, block_pairs: int) -> list[np.ndarray]:
-    """Splits the receiving rows into blocks of about ``block_pairs`` upper-triangle pairs."""
-    n = len(recv)
-    blocks, start, pairs = [], 0, 0
-    for k in range(n):
-        pairs += n - k - 1
-        if pairs >= block_pairs or k == n - 1:
-            blocks.append(np.ascontiguousarray(recv[start : k + 1], dtype=np.int64))
-            start, pairs = k + 1, 0
-    return blocks
+def _check_dense_fits(n: int) -> None:
+    need = 8 * n * n * 2  # the matrix plus one temporary
+    try:
+        avail = os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
+    except (ValueError, OSError, AttributeError):
+        return
+    if need > avail:
+        raise MemoryError(
+            f"a dense {n} x {n} matrix needs about {need / 2**30:.1f} GiB but {avail / 2**30:.1f} GiB are free; "
+            "use the sparse result (dense=False)"
+        )
 
 
 def _progress(enabled: bool, total: int, desc: str):
@@ -141,4 +176,4 @@ def _progress(enabled: bool, total: int, desc: str):
         return None
     from tqdm import tqdm
 
-    return tqdm(total=total, desc=desc, unit="rows")
+    return tqdm(total=total, desc=desc, unit="rows", dynamic_ncols=True)

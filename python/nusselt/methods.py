@@ -47,6 +47,8 @@ class Method:
     doc: str
     obstructed: bool
     options: dict = field(default_factory=dict)
+    #: "pairs": computes A_i F_ij once per unordered pair; "rows": samples whole rows F_i.
+    kind: str = "pairs"
 
 
 TOL = Option(float, 1e-10, "relative accuracy target per pair", 1e-15, 0.1)
