@@ -182,10 +182,53 @@ class Scene:
             meta=self.meta,
         )
 
+    def refined(self, max_edge: float) -> "Scene":
+        """A finer mesh of the same surfaces: every quadrilateral split bilinearly into k x m
+        quads and every other polygon fan-triangulated and each triangle split into k^2, so
+        that no edge is longer than ``max_edge``. Surface names and obstruction flags carry over."""
+        if not (np.isfinite(max_edge) and max_edge > 0):
+            raise ValueError(f"max_edge must be positive, got {max_edge}")
+        polys, surf, obst = [], [], []
+
+        def emit(p, k):
+            polys.append(p)
+            surf.append(self.surface[k])
+            obst.append(self.obstruction[k])
+
+        for k, f in enumerate(self.faces):
+            v = self.vertices[f]
+            if len(v) == 4 and _is_convex(v, self.normals[k]):
+                nu = max(1, int(np.ceil(max(np.linalg.norm(v[1] - v[0]), np.linalg.norm(v[2] - v[3])) / max_edge)))
+                nv = max(1, int(np.ceil(max(np.linalg.norm(v[3] - v[0]), np.linalg.norm(v[2] - v[1])) / max_edge)))
+                s, t = np.linspace(0, 1, nu + 1), np.linspace(0, 1, nv + 1)
+                bil = lambda a, b: (1 - a) * (1 - b) * v[0] + a * (1 - b) * v[1] + a * b * v[2] + (1 - a) * b * v[3]
+                for i in range(nu):
+                    for j in range(nv):
+                        emit(np.array([bil(s[i], t[j]), bil(s[i + 1], t[j]), bil(s[i + 1], t[j + 1]), bil(s[i], t[j + 1])]), k)
+                continue
+            for tri in self._core.triangulate(k):
+                a, b, c = v[tri[0]], v[tri[1]], v[tri[2]]
+                n = max(1, int(np.ceil(max(np.linalg.norm(b - a), np.linalg.norm(c - b), np.linalg.norm(a - c)) / max_edge)))
+                at = lambda i, j: a + (b - a) * (i / n) + (c - a) * (j / n)
+                for i in range(n):
+                    for j in range(n - i):
+                        emit(np.array([at(i, j), at(i + 1, j), at(i, j + 1)]), k)
+                        if i + j + 1 < n:
+                            emit(np.array([at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)]), k)
+        return Scene.from_polygons(
+            polys, surface=surf, names=self.surface_names, obstruction=obst, emissivity=self.emissivity,
+            planarity_tol=self.planarity_tol, source=self.source, meta=self.meta,
+        )
+
     def _face_label(self, k: int) -> str:
         if self._origin is not None and k < len(self._origin):
             return f"face {k} ({self._origin[k]})"
         return f"face {k}"
+
+
+def _is_convex(v: np.ndarray, n: np.ndarray) -> bool:
+    m = len(v)
+    return all(np.cross(v[(i + 1) % m] - v[i], v[(i + 2) % m] - v[(i + 1) % m]) @ n > 0 for i in range(m))
 
 
 def _unique_in_order(items: list[str]) -> tuple[list[str], np.ndarray]:

@@ -39,6 +39,14 @@ impl SceneCore {
         Ok(SceneCore { checked, polygons, receiver, rules })
     }
 
+    /// Triangles (vertex-index triples) of polygon k (ear clipping, concave outlines too).
+    fn triangulate(&self, k: usize) -> PyResult<Vec<[usize; 3]>> {
+        self.polygons
+            .get(k)
+            .map(|p| p.triangulate())
+            .ok_or_else(|| pyo3::exceptions::PyIndexError::new_err(format!("no polygon {k}")))
+    }
+
     /// Per polygon: None, or the validation error message.
     fn errors(&self) -> Vec<Option<String>> {
         self.checked.iter().map(|r| r.as_ref().err().map(|e| e.to_string())).collect()
