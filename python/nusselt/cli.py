@@ -58,17 +58,38 @@ def cmd_methods(args) -> int:
 
 
 def cmd_matrix(args) -> int:
+    import os
+
     from .api import form_factors
     from .scene import Scene
 
     scene = Scene.from_file(args.scene)
-    res = form_factors(scene, method=args.method, progress=args.progress, **_parse_options(args.option))
+    if args.refine:
+        scene = scene.refined(args.refine)
+    partial = args.output + ".partial"
+    if os.path.exists(partial) and not args.resume:
+        raise ValueError(f"{partial} holds an interrupted run: add --resume to continue it, or remove it")
+    opts = _parse_options(args.option)
+    print(f"{args.scene}: {len(scene)} polygons, {len(scene.receivers)} with rows, "
+          f"{len(scene.surface_names)} surfaces; method {args.method}", file=sys.stderr)
+    res = form_factors(
+        scene,
+        method=args.method,
+        progress=not args.quiet,
+        checkpoint=partial,
+        resume=args.resume,
+        block_size=args.block_size,
+        **opts,
+    )
     if args.surfaces:
         res = res.by_surface()
     from .io import write_result
 
-    write_result(args.output, res.matrix, res.areas, res.names)
-    print(res.summary() if len(res) <= 12 else res.summary().splitlines()[0])
+    write_result(args.output, res, scene=scene, to_surface=args.to_surface)
+    import shutil
+
+    shutil.rmtree(partial, ignore_errors=True)
+    print(res.summary() if len(res) <= 12 else "\n".join(res.summary().splitlines()[:2]))
     print(f"written {args.output}")
     return 0
 
@@ -90,7 +111,14 @@ def build_parser() -> argparse.ArgumentParser:
     m.add_argument("--method", default="auto", help="method name (see `nusselt methods`)")
     m.add_argument("--surfaces", action="store_true", help="aggregate to named surfaces")
     m.add_argument("--option", action="append", metavar="NAME=VALUE", help="method option, repeatable")
-    m.add_argument("--progress", action="store_true", help="show a progress bar")
+    m.add_argument("--refine", type=float, metavar="LENGTH",
+                   help="split polygons into patches with edges no longer than LENGTH (scene units)")
+    m.add_argument("--resume", action="store_true",
+                   help="continue an interrupted run from OUTPUT.partial (finished blocks are kept)")
+    m.add_argument("--block-size", type=int, default=2_000_000, metavar="N",
+                   help="work per checkpointed block: pairs (pair methods) or row entries (row methods)")
+    m.add_argument("--to-surface", metavar="NAME", help="for .vtu output: also store F from every patch to NAME")
+    m.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
     m.set_defaults(func=cmd_matrix)
 
     ms = sub.add_parser("methods", help="list the methods and their options")
