@@ -1,0 +1,166 @@
+//! Method selection for one pair or one point, unobstructed.
+//!
+//! `auto` picks per pair: a Gauss area rule whose order is chosen from the pair's relative
+//! separation so that the relative error stays below `tol` (cheap, and accurate because the
+//! kernel is smooth when the polygons are far apart compared with their size), or the exact
+//! closed form when the pair is close, touching or straddles a plane.
+
+use crate::analytic;
+use crate::contour;
+use crate::error::{Error, Result};
+use crate::geometry::{Polygon, Vec3};
+use crate::quadrature::{self, AreaRule};
+use std::sync::OnceLock;
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Method {
+    Auto,
+    Analytic,
+    Contour,
+}
+
+impl std::str::FromStr for Method {
+    type Err = Error;
+    fn from_str(s: &str) -> Result<Self> {
+        Ok(match s {
+            "auto" => Method::Auto,
+            "analytic" => Method::Analytic,
+            "contour" => Method::Contour,
+            _ => return Err(Error::InvalidArgument(format!("unknown method {s:?}"))),
+        })
+    }
+}
+
+/// Options of the pair methods (each method reads the ones it documents).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Options {
+    /// `auto`: relative accuracy target per pair.
+    pub tol: f64,
+    /// `contour`: Gauss-Legendre nodes per edge panel.
+    pub nodes: usize,
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        Options { tol: 1e-10, nodes: contour::DEFAULT_NODES }
+    }
+}
+
+impl Options {
+    pub fn check(&self) -> Result<()> {
+        if !(self.tol >= 1e-15 && self.tol <= 0.1) {
+            return Err(Error::InvalidArgument(format!("tol must be in [1e-15, 0.1], got {}", self.tol)));
+        }
+        if !(1..=64).contains(&self.nodes) {
+            return Err(Error::InvalidArgument(format!("nodes must be in 1..=64, got {}", self.nodes)));
+        }
+        Ok(())
+    }
+}
+
+/// Largest Gauss order `auto` uses before it falls back to the exact kernel.
+pub const MAX_AUTO_ORDER: usize = 8;
+
+/// Area rules of one polygon, built on first use per order (shared across threads).
+pub struct RuleCache {
+    rules: Vec<OnceLock<AreaRule>>,
+}
+
+impl RuleCache {
+    pub fn new(n_polygons: usize) -> Self {
+        RuleCache { rules: (0..n_polygons * MAX_AUTO_ORDER).map(|_| OnceLock::new()).collect() }
+    }
+    fn get<'a>(&'a self, id: usize, poly: &Polygon, order: usize) -> &'a AreaRule {
+        self.rules[id * MAX_AUTO_ORDER + order - 1].get_or_init(|| AreaRule::new(poly, order))
+    }
+}
+
+/// Relation of two polygons' planes, decided with a scale-relative tolerance.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Facing {
+    /// Nothing of either polygon lies strictly in front of the other: no exchange.
+    None,
+    /// Each lies entirely in the other's closed front half-space.
+    Full,
+    /// At least one crosses the other's plane: clipping is needed.
+    Partial,
+}
+
+pub fn facing(a: &Polygon, b: &Polygon) -> Facing {
+    let tol = 1e-12 * (a.radius() + b.radius());
+    let side = |p: &Polygon, q: &Polygon| {
+        let (mut pos, mut neg) = (false, false);
+        for v in q.vertices() {
+            let d = (*v - p.centroid()).dot(p.normal());
+            pos |= d > tol;
+            neg |= d < -tol;
+        }
+        (pos, neg)
+    };
+    let (ap, an) = side(a, b);
+    let (bp, bn) = side(b, a);
+    if !ap || !bp {
+        Facing::None
+    } else if an || bn {
+        Facing::Partial
+    } else {
+        Facing::Full
+    }
+}
+
+/// Relative separation: centroid distance over the sum of bounding radii.
+pub fn relative_separation(a: &Polygon, b: &Polygon) -> f64 {
+    a.centroid().distance(b.centroid()) / (a.radius() + b.radius())
+}
+
+/// A_a F_ab (= A_b F_ba) for an unobstructed pair. With `cache`, `ia`/`ib` index its rules.
+pub fn area_factor(
+    a: &Polygon,
+    b: &Polygon,
+    method: Method,
+    opts: &Options,
+    cache: Option<(&RuleCache, usize, usize)>,
+) -> Result<f64> {
+    match method {
+        Method::Analytic => Ok(analytic::polygon_pair(a, b)),
+        Method::Contour => contour::polygon_pair(a, b, opts.nodes),
+        Method::Auto => {
+            let f = facing(a, b);
+            if f == Facing::None {
+                return Ok(0.0);
+            }
+            if f == Facing::Full {
+                if let Some(order) = quadrature::far_field_order(relative_separation(a, b), opts.tol) {
+                    if order <= MAX_AUTO_ORDER {
+                        let g = match cache {
+                            Some((c, ia, ib)) => quadrature::area_area(
+                                c.get(ia, a, order),
+                                a.normal(),
+                                c.get(ib, b, order),
+                                b.normal(),
+                            ),
+                            None => quadrature::area_area(
+                                &AreaRule::new(a, order),
+                                a.normal(),
+                                &AreaRule::new(b, order),
+                                b.normal(),
+                            ),
+                        };
+                        return Ok(g);
+                    }
+                }
+            }
+            Ok(analytic::polygon_pair(a, b))
+        }
+    }
+}
+
+/// F from a differential area (p, unit n) to polygon b, unobstructed. Every unobstructed
+/// method evaluates Lambert's closed form here: it is exact and a single contour sum.
+pub fn point_factor(p: Vec3, n: Vec3, b: &Polygon, _method: Method, opts: &Options) -> Result<f64> {
+    opts.check()?;
+    if !p.is_finite() || !n.is_finite() || (n.length() - 1.0).abs() > 1e-6 {
+        return Err(Error::InvalidArgument("point and unit normal must be finite".into()));
+    }
+    Ok(analytic::point_polygon(p, n, b.vertices()))
+}
