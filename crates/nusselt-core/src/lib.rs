@@ -6,6 +6,7 @@
 pub mod error;
 pub mod geometry;
 pub mod matrix;
+pub mod sampling;
 pub mod visibility;
 
 pub use error::Error;
