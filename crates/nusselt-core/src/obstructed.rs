@@ -15,6 +15,7 @@ use crate::error::{Error, Result};
 use crate::geometry::{Polygon, Vec3};
 use crate::method::{self, Method, RuleCache};
 use crate::quadrature::AreaRule;
+use crate::sampling::{hash_seed, sobol4, PolygonSampler};
 use crate::visibility::shadow::point_visible_view_factor;
 use crate::visibility::Visibility;
 use std::f64::consts::PI;
@@ -247,16 +248,16 @@ pub fn point(ctx: &Context, p: Vec3, n: Vec3, j: usize, ignore: &[u32], m: VisMe
             }
         }
         VisMethod::MonteCarlo => {
-            let sampler = TriangleSampler::new(b);
+            let sampler = PolygonSampler::new(b);
             let reps = 8usize;
             let per = (o.samples / reps).max(1);
             let mut est = Vec::with_capacity(reps);
             for r in 0..reps {
-                let seed = hash_seed(o.seed, j as u64, u64::MAX, r as u64);
+                let seed = hash_seed(o.seed, &[j as u64, u64::MAX, r as u64]);
                 let mut acc = 0.0;
                 for k in 0..per {
-                    let u = sobol_burley::sample_4d(k as u32, 0, seed);
-                    let y = sampler.point(u[0] as f64, u[1] as f64);
+                    let u = sobol4(k as u32, seed);
+                    let y = sampler.sample([u[0], u[1]]);
                     let blocked = !visible(y);
                     let w = kernel(p, n, y, b.normal());
                     acc += if o.control_variate { if blocked { w } else { 0.0 } } else if blocked { 0.0 } else { w };
@@ -290,17 +291,18 @@ fn quadrature(a: &Polygon, b: &Polygon, pred: Option<&dyn Fn(Vec3, Vec3) -> bool
 /// Area-to-area RQMC: 8 independent Owen scramblings of a 4-D Sobol sequence; the spread of
 /// the 8 estimates gives the standard error.
 fn montecarlo(a: &Polygon, b: &Polygon, pred: Option<&dyn Fn(Vec3, Vec3) -> bool>, o: &VisOptions, i: usize, j: usize) -> Estimate {
-    let (sa, sb) = (TriangleSampler::new(a), TriangleSampler::new(b));
+    let (sa, sb) = (PolygonSampler::new(a), PolygonSampler::new(b));
     let reps = 8usize;
     let per = (o.samples / reps).max(1);
     let mut est = Vec::with_capacity(reps);
     for r in 0..reps {
-        let seed = hash_seed(o.seed, i as u64, j as u64, r as u64);
+        // every pair gets its own scrambling: results do not depend on the order of pairs
+        let seed = hash_seed(o.seed, &[i as u64, j as u64, r as u64]);
         let mut acc = 0.0;
         for k in 0..per {
-            let u = sobol_burley::sample_4d(k as u32, 0, seed);
-            let x = sa.point(u[0] as f64, u[1] as f64);
-            let y = sb.point(u[2] as f64, u[3] as f64);
+            let u = sobol4(k as u32, seed);
+            let x = sa.sample([u[0], u[1]]);
+            let y = sb.sample([u[2], u[3]]);
             let kv = kernel(x, a.normal(), y, b.normal());
             if kv > 0.0 && pred.map_or(true, |p| p(x, y)) {
                 acc += kv;
@@ -316,51 +318,6 @@ fn mean_and_error(est: &[f64]) -> Estimate {
     let mean = est.iter().sum::<f64>() / n;
     let var = est.iter().map(|e| (e - mean).powi(2)).sum::<f64>() / (n - 1.0);
     Estimate { value: mean, std_err: (var / n).sqrt() }
-}
-
-/// A 32-bit scrambling seed from the user's seed and the pair, so that every pair has its own
-/// independent scrambling and a run's result does not depend on the order pairs are computed.
-fn hash_seed(seed: u64, i: u64, j: u64, r: u64) -> u32 {
-    let mut h = seed ^ 0x9E37_79B9_7F4A_7C15;
-    for v in [i, j, r] {
-        h ^= v.wrapping_add(0x9E37_79B9_7F4A_7C15).wrapping_add(h << 6).wrapping_add(h >> 2);
-        h = h.wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        h ^= h >> 31;
-    }
-    (h ^ (h >> 32)) as u32
-}
-
-/// Uniform points on a polygon: choose a fan triangle by area (first coordinate, rescaled),
-/// then the square-root map onto that triangle.
-struct TriangleSampler {
-    tris: Vec<[Vec3; 3]>,
-    cdf: Vec<f64>,
-}
-
-impl TriangleSampler {
-    fn new(p: &Polygon) -> Self {
-        let v = p.vertices();
-        let tris: Vec<[Vec3; 3]> = p.triangulate().iter().map(|t| [v[t[0]], v[t[1]], v[t[2]]]).collect();
-        let mut cdf = Vec::with_capacity(tris.len());
-        let mut acc = 0.0;
-        for t in &tris {
-            acc += 0.5 * (t[1] - t[0]).cross(t[2] - t[0]).length();
-            cdf.push(acc);
-        }
-        for c in &mut cdf {
-            *c /= acc;
-        }
-        TriangleSampler { tris, cdf }
-    }
-
-    fn point(&self, u1: f64, u2: f64) -> Vec3 {
-        let k = self.cdf.partition_point(|&c| c < u1).min(self.tris.len() - 1);
-        let lo = if k == 0 { 0.0 } else { self.cdf[k - 1] };
-        let u1 = ((u1 - lo) / (self.cdf[k] - lo).max(1e-300)).clamp(0.0, 1.0);
-        let s = u1.sqrt();
-        let t = &self.tris[k];
-        t[0] * (1.0 - s) + t[1] * (s * (1.0 - u2)) + t[2] * (s * u2)
-    }
 }
 
 /// Source points and weights (summing to the polygon's area): the centroid alone, or a
