@@ -5,6 +5,7 @@
 
 pub mod error;
 pub mod geometry;
+pub mod hemisphere;
 pub mod matrix;
 pub mod sampling;
 pub mod visibility;

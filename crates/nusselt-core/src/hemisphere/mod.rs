@@ -1,0 +1,413 @@
+//! Whole rows of the form-factor matrix by sampling the hemisphere above a source patch.
+//!
+//! Every method here looks out from points on patch i and attributes each piece of the
+//! hemisphere to the first patch seen there, so one pass yields F_ij for all j at once
+//! (algorithms.md 1.1: F_{dA -> A_j} = projected solid angle of the visible part of A_j / pi,
+//! and F_ij is its area average over A_i):
+//!
+//! * [`hemicube_row`]: five z-buffered faces with exact cell integrals (Cohen & Greenberg 1985),
+//! * [`single_plane_row`]: one plane with Warnock area subdivision (Sillion & Puech 1989),
+//! * [`raytrace_row`]: cosine-distributed rays, Owen-scrambled Sobol (reverse Nusselt),
+//! * [`nusselt_row`]: the Nusselt analogue on an equal-area partition of the unit disk.
+//!
+//! Only front sides receive: a piece of hemisphere that sees a polygon's back side is blocked
+//! but lost, as is any piece that sees nothing (an open scene) and, for the single plane, the
+//! horizon band the plane misses. `RowResult::lost` reports that fraction. Hits on
+//! polygons that are not receivers are blocked and simply not reported (they are not lost).
+//!
+//! The functions are pure (no shared mutable state, per-thread scratch buffers), so the
+//! caller may run rows in parallel. Memory is O(N) per thread, never N x N.
+
+pub mod hemicube;
+pub mod nusselt_analog;
+pub mod raytrace;
+pub mod single_plane;
+
+pub use hemicube::{hemicube_row, HemicubeOptions};
+pub use nusselt_analog::{nusselt_row, NusseltOptions};
+pub use raytrace::{raytrace_row, RaytraceOptions};
+pub use single_plane::{single_plane_row, SinglePlaneOptions};
+
+use crate::error::{Error, Result};
+use crate::geometry::{Polygon, Vec3};
+use crate::sampling::{hash_seed, sobol4, PolygonSampler};
+
+/// One row F_i. of the form-factor matrix.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct RowResult {
+    /// (j, F_ij) for every receiver j with F_ij > 0, increasing j.
+    pub entries: Vec<(u32, f64)>,
+    /// Standard error of each entry (same order), for the sampling methods that have one.
+    pub std_err: Option<Vec<f64>>,
+    /// Fraction of the source's hemisphere assigned to no patch: back-face hits, directions
+    /// that see nothing, and (single plane) the horizon band missed by the plane.
+    pub lost: f64,
+}
+
+impl RowResult {
+    /// Sum of the reported entries.
+    pub fn sum(&self) -> f64 {
+        self.entries.iter().map(|e| e.1).sum()
+    }
+    /// F_ij, 0 if absent.
+    pub fn get(&self, j: u32) -> f64 {
+        self.entries.binary_search_by_key(&j, |e| e.0).map_or(0.0, |k| self.entries[k].1)
+    }
+}
+
+/// Where on the source patch the hemisphere is sampled. The row is the weighted sum of the
+/// point rows (weights sum to 1), i.e. an area quadrature of F_{dA -> A_j} over patch i.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SourcePoints {
+    /// The area centroid only: F_ij ~ F_{dA_centre -> A_j}. Fine for patches small compared
+    /// with their distance to others (about 1 % beyond five patch sizes, algorithms.md 2.4).
+    Centre,
+    /// n area-uniform points, the first n of an Owen-scrambled Sobol (0,2)-sequence mapped
+    /// onto the patch (stratified: use a power of two), equal weights 1/n. 1 <= n <= 4096.
+    Points(u32),
+    /// Chooses by the patch's size relative to the scene: n = 4^k points with
+    /// 4^k >= (radius_i / (AUTO_REL_SIZE * scene diameter))^2, 1 (the centre) up to 64.
+    /// Small patches in a large scene get the centre; patches that are a sizeable part of
+    /// the scene (whose proximity error would dominate) get more points. The number of
+    /// points is thus about constant per unit area of scene, and so is the cost.
+    Auto,
+}
+
+/// See [`SourcePoints::Auto`].
+pub const AUTO_REL_SIZE: f64 = 0.03;
+/// Largest number of source points accepted.
+pub const MAX_SOURCE_POINTS: u32 = 4096;
+
+impl SourcePoints {
+    pub(crate) fn check(&self) -> Result<()> {
+        if let SourcePoints::Points(n) = *self {
+            if n == 0 || n > MAX_SOURCE_POINTS {
+                return Err(Error::InvalidArgument(format!(
+                    "source points: {n} is out of range 1..={MAX_SOURCE_POINTS}"
+                )));
+            }
+        }
+        Ok(())
+    }
+
+    /// The points and weights for `poly` (row `i` of a scene whose diameter is
+    /// `scene_size`), written to `out`. Deterministic in (seed, i).
+    pub(crate) fn generate(&self, poly: &Polygon, scene_size: f64, seed: u64, i: usize, out: &mut Vec<(Vec3, f64)>) {
+        out.clear();
+        let n = match *self {
+            SourcePoints::Centre => 0,
+            SourcePoints::Points(n) => n,
+            SourcePoints::Auto => {
+                let rho = poly.radius() / (AUTO_REL_SIZE * scene_size.max(f64::MIN_POSITIVE));
+                let want = rho * rho;
+                let mut n = 1u32;
+                while (n as f64) < want && n < 64 {
+                    n *= 4;
+                }
+                if n == 1 {
+                    0
+                } else {
+                    n
+                }
+            }
+        };
+        if n == 0 {
+            out.push((poly.centroid(), 1.0));
+            return;
+        }
+        let sampler = PolygonSampler::new(poly);
+        let s = hash_seed(seed, &[i as u64, 0x5EED_0F_50_u64]);
+        let w = 1.0 / n as f64;
+        for k in 0..n {
+            let u = sobol4(k, s);
+            out.push((sampler.sample([u[0], u[1]]), w));
+        }
+    }
+}
+
+/// Validates the common arguments of a row computation.
+pub(crate) fn check_row(scene: &[Polygon], receivers: &[bool], i: usize) -> Result<()> {
+    if receivers.len() != scene.len() {
+        return Err(Error::InvalidArgument(format!(
+            "receiver mask has {} entries for {} polygons",
+            receivers.len(),
+            scene.len()
+        )));
+    }
+    if i >= scene.len() {
+        return Err(Error::InvalidArgument(format!("source patch {i} out of range for {} polygons", scene.len())));
+    }
+    if scene.len() > u32::MAX as usize - 2 {
+        return Err(Error::InvalidArgument(format!("{} polygons exceed the id range", scene.len())));
+    }
+    Ok(())
+}
+
+/// Diagonal of the scene's bounding box.
+pub(crate) fn scene_diameter(scene: &[Polygon]) -> f64 {
+    let mut lo = Vec3::splat(f64::INFINITY);
+    let mut hi = Vec3::splat(f64::NEG_INFINITY);
+    for p in scene {
+        for v in p.vertices() {
+            lo = lo.min(*v);
+            hi = hi.max(*v);
+        }
+    }
+    (hi - lo).length()
+}
+
+/// Rotation of the tangent frame about the normal: (u, v, n) right-handed.
+pub(crate) fn rotated_frame(n: Vec3, angle: f64) -> (Vec3, Vec3) {
+    let (t, b) = crate::geometry::tangent_frame(n);
+    let (s, c) = angle.sin_cos();
+    (t * c + b * s, b * c - t * s)
+}
+
+/// Dense per-thread accumulator over patch ids with a list of touched ids, so that a row
+/// costs O(entries) to read out and O(N) memory once per thread.
+#[derive(Debug, Default)]
+pub(crate) struct Accum {
+    acc: Vec<f64>,
+    touched: Vec<u32>,
+}
+
+impl Accum {
+    pub(crate) fn reset(&mut self, n: usize) {
+        for &j in &self.touched {
+            if let Some(a) = self.acc.get_mut(j as usize) {
+                *a = 0.0;
+            }
+        }
+        self.touched.clear();
+        if self.acc.len() != n {
+            self.acc.clear();
+            self.acc.resize(n, 0.0);
+        }
+    }
+    #[inline]
+    pub(crate) fn add(&mut self, j: u32, w: f64) {
+        let a = &mut self.acc[j as usize];
+        if *a == 0.0 {
+            self.touched.push(j);
+        }
+        *a += w;
+    }
+    /// Sorted (j, value) for the receivers among the touched ids.
+    pub(crate) fn entries(&mut self, receivers: &[bool]) -> Vec<(u32, f64)> {
+        self.touched.sort_unstable();
+        self.touched
+            .iter()
+            .filter(|&&j| receivers[j as usize] && self.acc[j as usize] > 0.0)
+            .map(|&j| (j, self.acc[j as usize]))
+            .collect()
+    }
+}
+
+/// Brute-force visibility for the tests: every polygon, plane hit + point-in-polygon.
+#[cfg(test)]
+pub(crate) mod brute {
+    use crate::geometry::{tangent_frame, Polygon, Vec3};
+    use crate::visibility::{Hit, Visibility};
+
+    pub struct BruteForce<'a> {
+        pub scene: &'a [Polygon],
+    }
+
+    fn inside(p: &Polygon, x: Vec3) -> bool {
+        let (t, b) = tangent_frame(p.normal());
+        let q = [(x - p.centroid()).dot(t), (x - p.centroid()).dot(b)];
+        let v = p.vertices();
+        let mut c = false;
+        for k in 0..v.len() {
+            let a = v[k] - p.centroid();
+            let bb = v[(k + 1) % v.len()] - p.centroid();
+            let (a, bb) = ([a.dot(t), a.dot(b)], [bb.dot(t), bb.dot(b)]);
+            if (a[1] > q[1]) != (bb[1] > q[1]) && q[0] < a[0] + (q[1] - a[1]) * (bb[0] - a[0]) / (bb[1] - a[1]) {
+                c = !c;
+            }
+        }
+        c
+    }
+
+    impl Visibility for BruteForce<'_> {
+        fn first_hit(&self, origin: Vec3, dir: Vec3, tmin: f64, tmax: f64, ignore: &[u32]) -> Option<Hit> {
+            let mut best: Option<Hit> = None;
+            for (j, p) in self.scene.iter().enumerate() {
+                if ignore.contains(&(j as u32)) {
+                    continue;
+                }
+                let dn = dir.dot(p.normal());
+                if dn == 0.0 {
+                    continue;
+                }
+                let t = (p.centroid() - origin).dot(p.normal()) / dn;
+                if !(t > tmin && t < tmax) || best.is_some_and(|h| h.t <= t) {
+                    continue;
+                }
+                if inside(p, origin + dir * t) {
+                    best = Some(Hit { id: j as u32, t, front: dn < 0.0 });
+                }
+            }
+            best
+        }
+        fn occluded(&self, a: Vec3, b: Vec3, ignore: &[u32]) -> bool {
+            self.first_hit(a, b - a, 1e-9, 1.0 - 1e-9, ignore).is_some()
+        }
+        fn candidates_between(&self, _a: &Polygon, _b: &Polygon, ignore: &[u32], out: &mut Vec<u32>) {
+            out.clear();
+            out.extend((0..self.scene.len() as u32).filter(|j| !ignore.contains(j)));
+        }
+    }
+}
+
+/// Scenes and exact references shared by the method tests.
+#[cfg(test)]
+pub(crate) mod testkit {
+    use crate::geometry::{Polygon, Vec3};
+    use std::f64::consts::PI;
+
+    pub fn quad(a: Vec3, b: Vec3, c: Vec3, d: Vec3) -> Polygon {
+        Polygon::new(vec![a, b, c, d]).unwrap()
+    }
+
+    /// Unit square in z = 0 facing +z and unit square in z = h facing -z (Howell C-11 pair).
+    pub fn parallel_squares(h: f64) -> Vec<Polygon> {
+        vec![
+            quad(Vec3::new(0., 0., 0.), Vec3::new(1., 0., 0.), Vec3::new(1., 1., 0.), Vec3::new(0., 1., 0.)),
+            quad(Vec3::new(0., 0., h), Vec3::new(0., 1., h), Vec3::new(1., 1., h), Vec3::new(1., 0., h)),
+        ]
+    }
+
+    /// Unit square in z = 0 facing +z and unit square in x = 0 facing +x (shared edge on y).
+    pub fn perpendicular_squares() -> Vec<Polygon> {
+        vec![
+            quad(Vec3::new(0., 0., 0.), Vec3::new(1., 0., 0.), Vec3::new(1., 1., 0.), Vec3::new(0., 1., 0.)),
+            quad(Vec3::new(0., 0., 0.), Vec3::new(0., 1., 0.), Vec3::new(0., 1., 1.), Vec3::new(0., 0., 1.)),
+        ]
+    }
+
+    /// Closed box [0,sx]x[0,sy]x[0,sz], faces pointing inward, each split into m x m quads.
+    pub fn closed_box(lo: Vec3, hi: Vec3, m: usize, inward: bool) -> Vec<Polygon> {
+        let mut out = Vec::new();
+        let d = hi - lo;
+        let (x, y, z) = (Vec3::new(d.x, 0., 0.), Vec3::new(0., d.y, 0.), Vec3::new(0., 0., d.z));
+        // (origin, edge u, edge v) with u x v pointing inward
+        let faces = [
+            (lo, x, y),                          // z = lo, +z
+            (Vec3::new(lo.x, lo.y, hi.z), y, x), // z = hi, -z
+            (lo, z, x),                          // y = lo, +y
+            (Vec3::new(lo.x, hi.y, lo.z), x, z), // y = hi, -y
+            (lo, y, z),                          // x = lo, +x
+            (Vec3::new(hi.x, lo.y, lo.z), z, y), // x = hi, -x
+        ];
+        for (o, u, v) in faces {
+            for a in 0..m {
+                for b in 0..m {
+                    let p = |s: usize, t: usize| o + u * (s as f64 / m as f64) + v * (t as f64 / m as f64);
+                    let mut q = vec![p(a, b), p(a + 1, b), p(a + 1, b + 1), p(a, b + 1)];
+                    if !inward {
+                        q.reverse();
+                    }
+                    out.push(Polygon::new(q).unwrap());
+                }
+            }
+        }
+        out
+    }
+
+    /// A room [0,4]x[0,3]x[0,2.5] split m x m per wall plus an outward-facing crate
+    /// [1,2]x[1,2]x[0.0,0.8] split c x c per face (its bottom face lies on the floor and
+    /// receives nothing, it still counts as a polygon), with the surface id of each polygon.
+    pub fn room_with_crate(m: usize, c: usize) -> (Vec<Polygon>, Vec<usize>) {
+        let mut scene = closed_box(Vec3::ZERO, Vec3::new(4., 3., 2.5), m, true);
+        let mut surf: Vec<usize> = (0..scene.len()).map(|k| k / (m * m)).collect();
+        let crate_box = closed_box(Vec3::new(1., 1., 0.0), Vec3::new(2., 2., 0.8), c, false);
+        for (k, p) in crate_box.into_iter().enumerate() {
+            scene.push(p);
+            surf.push(6 + k / (c * c));
+        }
+        (scene, surf)
+    }
+
+    /// Differential element at a rectangle's corner, normal along the rectangle's axis at
+    /// height 1, rectangle a x b: (1/2pi)[A/sqrt(1+A^2) atan(B/sqrt(1+A^2)) + (A<->B)]
+    /// (Howell B-3). Checked against a midpoint integration in `lambert_reference_checked`.
+    pub fn corner_rect(a: f64, b: f64) -> f64 {
+        let f = |x: f64, y: f64| x / (1. + x * x).sqrt() * (y / (1. + x * x).sqrt()).atan();
+        (f(a, b) + f(b, a)) / (2. * PI)
+    }
+
+    /// Howell C-11: identical parallel directly opposed rectangles a x b at distance c.
+    pub fn parallel_rect(a: f64, b: f64, c: f64) -> f64 {
+        let (x, y) = (a / c, b / c);
+        let (x2, y2) = (1. + x * x, 1. + y * y);
+        2. / (PI * x * y)
+            * ((x2 * y2 / (x2 + y2 - 1.)).sqrt().ln() + x * y2.sqrt() * (x / y2.sqrt()).atan()
+                + y * x2.sqrt() * (y / x2.sqrt()).atan()
+                - x * x.atan()
+                - y * y.atan())
+    }
+
+    /// Howell C-14: perpendicular rectangles with a common edge of length l, widths h, w
+    /// (from the w-rectangle to the h-rectangle).
+    pub fn perpendicular_rect(l: f64, w: f64, h: f64) -> f64 {
+        let (hh, ww) = (h / l, w / l);
+        let a = (1. + ww * ww) * (1. + hh * hh) / (1. + ww * ww + hh * hh);
+        let b = ww * ww * (1. + ww * ww + hh * hh) / ((1. + ww * ww) * (ww * ww + hh * hh));
+        let c = hh * hh * (1. + hh * hh + ww * ww) / ((1. + hh * hh) * (hh * hh + ww * ww));
+        1. / (PI * ww)
+            * (ww * (1. / ww).atan() + hh * (1. / hh).atan() - (hh * hh + ww * ww).sqrt() * (1. / (hh * hh + ww * ww).sqrt()).atan()
+                + 0.25 * (a.ln() + ww * ww * b.ln() + hh * hh * c.ln()))
+    }
+
+    /// F_{dA -> square} by a midpoint rule on an n x n grid (independent of the closed forms).
+    pub fn point_to_polygon_midpoint(p: Vec3, n: Vec3, lo: Vec3, u: Vec3, v: Vec3, m: usize) -> f64 {
+        let nr = u.cross(v).normalize();
+        let da = u.cross(v).length() / (m * m) as f64;
+        let mut f = 0.0;
+        for a in 0..m {
+            for b in 0..m {
+                let x = lo + u * ((a as f64 + 0.5) / m as f64) + v * ((b as f64 + 0.5) / m as f64);
+                let r = x - p;
+                let r2 = r.length_squared();
+                let ci = n.dot(r) / r2.sqrt();
+                let cj = -nr.dot(r) / r2.sqrt();
+                f += (ci * cj.abs()).max(0.0) / (PI * r2) * da;
+            }
+        }
+        f
+    }
+
+    #[test]
+    fn references_checked() {
+        // corner rectangle vs midpoint integration; square on axis = 4 corners = 0.239456
+        let mid = point_to_polygon_midpoint(Vec3::ZERO, Vec3::Z, Vec3::new(0., 0., 1.), Vec3::new(0.7, 0., 0.), Vec3::new(0., 1.3, 0.), 800);
+        assert!((mid - corner_rect(0.7, 1.3)).abs() < 1e-6, "{mid} {}", corner_rect(0.7, 1.3));
+        let sq = 4.0 * corner_rect(0.5, 0.5);
+        assert!((sq - 0.239456).abs() < 1e-6, "{sq}");
+        assert!((parallel_rect(1., 1., 1.) - 0.199824895698387).abs() < 1e-14);
+        assert!((perpendicular_rect(1., 1., 1.) - 0.200043776075403).abs() < 1e-14);
+        // parallel squares vs a 4-D midpoint rule (smooth integrand, converges ~h^2)
+        let m = 24;
+        let mut g = 0.0;
+        let h = 1.0 / m as f64;
+        for a in 0..m * m {
+            let x = Vec3::new((a % m) as f64 + 0.5, (a / m) as f64 + 0.5, 0.) * h;
+            for b in 0..m * m {
+                let y = Vec3::new((b % m) as f64 + 0.5, (b / m) as f64 + 0.5, 1.0 / h) * h;
+                let r2 = (y - x).length_squared();
+                g += 1.0 / (PI * r2 * r2);
+            }
+        }
+        g *= h.powi(4);
+        assert!((g - parallel_rect(1., 1., 1.)).abs() < 2e-4, "{g}");
+        // box faces point inward (or outward)
+        let c = Vec3::new(0.5, 1.0, 1.5);
+        for p in closed_box(Vec3::ZERO, 2.0 * c, 2, true) {
+            assert!((c - p.centroid()).dot(p.normal()) > 0.0);
+        }
+        for p in closed_box(Vec3::ZERO, 2.0 * c, 2, false) {
+            assert!((c - p.centroid()).dot(p.normal()) < 0.0);
+        }
+    }
+}
