@@ -4,6 +4,10 @@
 
 use crate::geometry::{Polygon, Vec3};
 
+pub mod bvh;
+
+pub use bvh::Bvh;
+
 /// Ids are indices into the scene's polygon list.
 pub trait Visibility: Sync {
     /// First polygon hit by `origin + t * dir` for t in (tmin, tmax), skipping the ids in

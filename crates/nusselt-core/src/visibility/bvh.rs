@@ -1,0 +1,615 @@
+//! A compact bounding volume hierarchy over the scene's polygons, in f64.
+//!
+//! * Polygons are triangulated once (ear clipping, so concave outlines work) and the tree is
+//!   built over the triangles with the binned surface-area heuristic (Wald 2007, "On fast
+//!   construction of SAH-based bounding volume hierarchies"; pbrt-v3 section 4.3.2).
+//! * Ray-triangle tests use the watertight algorithm of Woop, Benthin & Wald (JCGT 2(1), 2013):
+//!   the edge functions of a shared edge are computed from the same translated, sheared
+//!   vertex values by both triangles, so a ray through the edge is never lost between them
+//!   (a point exactly on the edge counts as inside both). This makes the polygon test robust
+//!   at polygon edges too, as long as neighbours share bit-identical vertices.
+//! * Ray-box tests are the slab test with pbrt's 1 + 2 gamma(3) widening of the far distance,
+//!   so rounding can never make a ray miss a box it touches.
+//! * Shaft culling ([`Visibility::candidates_between`]) walks the tree with the bounding box of
+//!   the convex hull of the two polygons and a set of its supporting planes (Haines & Wallace
+//!   1991, "Shaft culling for efficient ray-traced radiosity"), then tests each triangle
+//!   against those planes and tests the hull against the triangle's own plane.
+//!
+//! Everything is f64 (no conservative f32 boxes to worry about) and every query takes `&self`,
+//! so one tree serves any number of threads.
+
+use super::{Hit, Visibility};
+use crate::error::{Error, Result};
+use crate::geometry::{Polygon, Vec3};
+
+/// Triangles per leaf at most; below this count a node is never split.
+const LEAF_MAX: usize = 4;
+const BINS: usize = 12;
+/// Relative offset of the segment ends in [`Visibility::occluded`].
+const SEGMENT_EPS: f64 = 1e-9;
+/// Tolerance of the shaft tests, relative to the pair's size: a polygon that enters the shaft
+/// by less than this is not a candidate (it can only touch the shaft's boundary).
+const SHAFT_TOL: f64 = 1e-10;
+
+#[derive(Clone, Copy, Debug)]
+struct Tri {
+    v: [Vec3; 3],
+    id: u32,
+}
+
+#[derive(Clone, Copy, Debug)]
+struct Node {
+    lo: Vec3,
+    hi: Vec3,
+    /// Leaf: first triangle. Inner: index of the second child (the first is the next node).
+    offset: u32,
+    /// Number of triangles; 0 for an inner node.
+    count: u16,
+    /// Split axis of an inner node (traversal visits the near child first).
+    axis: u16,
+}
+
+/// BVH over a scene's polygons; ids are the polygons' indices in the slice given to
+/// [`Bvh::new`].
+#[derive(Debug, Clone)]
+pub struct Bvh {
+    nodes: Vec<Node>,
+    tris: Vec<Tri>,
+    /// Unit normal of each polygon by id (zero for ids masked out).
+    normals: Vec<Vec3>,
+    /// Largest absolute coordinate of the scene: the size rounding errors scale with.
+    max_abs: f64,
+}
+
+#[derive(Clone, Copy)]
+struct Aabb {
+    lo: Vec3,
+    hi: Vec3,
+}
+
+impl Aabb {
+    const EMPTY: Aabb = Aabb { lo: Vec3::splat(f64::INFINITY), hi: Vec3::splat(f64::NEG_INFINITY) };
+    fn grow(&mut self, p: Vec3) {
+        self.lo = self.lo.min(p);
+        self.hi = self.hi.max(p);
+    }
+    fn join(&mut self, o: &Aabb) {
+        self.lo = self.lo.min(o.lo);
+        self.hi = self.hi.max(o.hi);
+    }
+    fn half_area(&self) -> f64 {
+        let d = (self.hi - self.lo).max(Vec3::ZERO);
+        d.x * d.y + d.y * d.z + d.z * d.x
+    }
+}
+
+fn tri_box(t: &Tri) -> Aabb {
+    Aabb { lo: t.v[0].min(t.v[1]).min(t.v[2]), hi: t.v[0].max(t.v[1]).max(t.v[2]) }
+}
+
+impl Bvh {
+    /// Builds the tree over all polygons.
+    pub fn new(polygons: &[Polygon]) -> Result<Self> {
+        Self::with_mask(polygons, None)
+    }
+
+    /// Builds the tree over the polygons whose `mask` entry is true (all when `mask` is None);
+    /// ids stay the indices into `polygons`.
+    pub fn with_mask(polygons: &[Polygon], mask: Option<&[bool]>) -> Result<Self> {
+        if polygons.len() > u32::MAX as usize {
+            return Err(Error::InvalidArgument(format!(
+                "too many polygons for the BVH: {} (at most {})",
+                polygons.len(),
+                u32::MAX
+            )));
+        }
+        if let Some(m) = mask {
+            if m.len() != polygons.len() {
+                return Err(Error::InvalidArgument(format!(
+                    "visibility mask has {} entries for {} polygons",
+                    m.len(),
+                    polygons.len()
+                )));
+            }
+        }
+        let mut tris = Vec::new();
+        let mut normals = vec![Vec3::ZERO; polygons.len()];
+        let mut max_abs: f64 = 0.0;
+        for (i, p) in polygons.iter().enumerate() {
+            if mask.is_some_and(|m| !m[i]) {
+                continue;
+            }
+            normals[i] = p.normal();
+            let v = p.vertices();
+            for x in v {
+                max_abs = max_abs.max(x.abs().max_element());
+            }
+            for t in p.triangulate() {
+                let tri = Tri { v: [v[t[0]], v[t[1]], v[t[2]]], id: i as u32 };
+                // Ear clipping may leave zero-area slivers on collinear runs: they hit nothing.
+                if (tri.v[1] - tri.v[0]).cross(tri.v[2] - tri.v[0]).length_squared() > 0.0 {
+                    tris.push(tri);
+                }
+            }
+        }
+        let mut bvh = Bvh { nodes: Vec::with_capacity(2 * tris.len() / LEAF_MAX + 1), tris, normals, max_abs };
+        if !bvh.tris.is_empty() {
+            let boxes: Vec<Aabb> = bvh.tris.iter().map(tri_box).collect();
+            let cents: Vec<Vec3> = boxes.iter().map(|b| 0.5 * (b.lo + b.hi)).collect();
+            let mut order: Vec<u32> = (0..bvh.tris.len() as u32).collect();
+            build(&mut bvh.nodes, &boxes, &cents, &mut order, 0, 0);
+            bvh.tris = order.iter().map(|&k| bvh.tris[k as usize]).collect();
+        }
+        Ok(bvh)
+    }
+
+    /// Number of triangles in the tree.
+    pub fn triangle_count(&self) -> usize {
+        self.tris.len()
+    }
+
+    /// Walks the tree along a ray; `on_tri` may return a new tmax (NEG_INFINITY stops).
+    #[inline]
+    fn traverse(&self, ray: &Ray, tmin: f64, mut tmax: f64, mut on_tri: impl FnMut(&Tri, f64) -> Option<f64>) {
+        if self.nodes.is_empty() {
+            return;
+        }
+        // Fixed stack; a (pathologically) deeper tree spills into `overflow`, whose entries
+        // are always newer than the array's, so popping it first keeps the LIFO order.
+        let mut stack = [0u32; 64];
+        let mut overflow: Vec<u32> = Vec::new();
+        let mut sp = 0usize;
+        let mut node = 0usize;
+        loop {
+            let n = &self.nodes[node];
+            if ray.hits_box(n.lo, n.hi, tmin, tmax) {
+                if n.count > 0 {
+                    let s = n.offset as usize;
+                    for tri in &self.tris[s..s + n.count as usize] {
+                        if let Some(t) = ray.hit_tri(tri, tmin, tmax) {
+                            match on_tri(tri, t) {
+                                Some(new_max) if new_max == f64::NEG_INFINITY => return,
+                                Some(new_max) => tmax = new_max,
+                                None => {}
+                            }
+                        }
+                    }
+                } else {
+                    // Visit the child on the ray's near side first.
+                    let (first, second) = if ray.neg[n.axis as usize] {
+                        (n.offset, node as u32 + 1)
+                    } else {
+                        (node as u32 + 1, n.offset)
+                    };
+                    if sp < stack.len() && overflow.is_empty() {
+                        stack[sp] = second;
+                        sp += 1;
+                    } else {
+                        overflow.push(second);
+                    }
+                    node = first as usize;
+                    continue;
+                }
+            }
+            if let Some(next) = overflow.pop() {
+                node = next as usize;
+            } else if sp > 0 {
+                sp -= 1;
+                node = stack[sp] as usize;
+            } else {
+                return;
+            }
+        }
+    }
+}
+
+/// Recursive binned-SAH build over `order` (a slice of triangle indices); returns nothing,
+/// appends nodes depth first and leaves `order` partitioned so each leaf is a contiguous run.
+fn build(nodes: &mut Vec<Node>, boxes: &[Aabb], cents: &[Vec3], order: &mut [u32], first: usize, depth: usize) {
+    let me = nodes.len();
+    let mut bounds = Aabb::EMPTY;
+    let mut cb = Aabb::EMPTY;
+    for &k in order.iter() {
+        bounds.join(&boxes[k as usize]);
+        cb.grow(cents[k as usize]);
+    }
+    nodes.push(Node { lo: bounds.lo, hi: bounds.hi, offset: first as u32, count: order.len() as u16, axis: 0 });
+    if order.len() <= LEAF_MAX {
+        return;
+    }
+    let ext = cb.hi - cb.lo;
+    let axis = if ext.x >= ext.y && ext.x >= ext.z { 0 } else if ext.y >= ext.z { 1 } else { 2 };
+    let mid = if ext[axis] <= 0.0 {
+        // All centroids coincide: split in the middle of the list.
+        order.len() / 2
+    } else {
+        // SAH over BINS buckets along the widest centroid axis.
+        let scale = BINS as f64 / ext[axis];
+        let bin_of = |k: u32| (((cents[k as usize][axis] - cb.lo[axis]) * scale) as usize).min(BINS - 1);
+        let mut bin_box = [Aabb::EMPTY; BINS];
+        let mut bin_n = [0usize; BINS];
+        for &k in order.iter() {
+            let b = bin_of(k);
+            bin_box[b].join(&boxes[k as usize]);
+            bin_n[b] += 1;
+        }
+        let mut right_cost = [0.0; BINS];
+        let mut acc = Aabb::EMPTY;
+        let mut n = 0;
+        for b in (1..BINS).rev() {
+            acc.join(&bin_box[b]);
+            n += bin_n[b];
+            right_cost[b] = if n > 0 { acc.half_area() * n as f64 } else { 0.0 };
+        }
+        let mut best = (f64::INFINITY, 0usize);
+        let mut acc = Aabb::EMPTY;
+        let mut n = 0;
+        for b in 0..BINS - 1 {
+            acc.join(&bin_box[b]);
+            n += bin_n[b];
+            if n == 0 || n == order.len() {
+                continue;
+            }
+            let c = acc.half_area() * n as f64 + right_cost[b + 1];
+            if c < best.0 {
+                best = (c, b);
+            }
+        }
+        let leaf_cost = bounds.half_area() * order.len() as f64;
+        // Traversal cost ~ one triangle test, relative to the parent's area.
+        let split_cost = 0.5 * bounds.half_area() + best.0;
+        // Past depth 40 (lopsided SAH splits on odd inputs) fall back to median splits, which
+        // bound the depth by log2(n).
+        if depth < 40 && best.0.is_finite() && (split_cost < leaf_cost || order.len() > u16::MAX as usize) {
+            let mut i = 0;
+            for j in 0..order.len() {
+                if bin_of(order[j]) <= best.1 {
+                    order.swap(i, j);
+                    i += 1;
+                }
+            }
+            i
+        } else if order.len() > 16 || depth >= 40 {
+            // Splitting does not pay by SAH, but keep leaves small anyway (median split).
+            order.sort_unstable_by(|&p, &q| cents[p as usize][axis].total_cmp(&cents[q as usize][axis]));
+            order.len() / 2
+        } else {
+            return;
+        }
+    };
+    let (left, right) = order.split_at_mut(mid);
+    build(nodes, boxes, cents, left, first, depth + 1);
+    let second = nodes.len();
+    build(nodes, boxes, cents, right, first + mid, depth + 1);
+    nodes[me].offset = second as u32;
+    nodes[me].count = 0;
+    nodes[me].axis = axis as u16;
+}
+
+/// Per-ray precomputation: origin, reciprocal direction and the shear of the watertight test.
+struct Ray {
+    o: Vec3,
+    inv: Vec3,
+    neg: [bool; 3],
+    kx: usize,
+    ky: usize,
+    kz: usize,
+    sx: f64,
+    sy: f64,
+    sz: f64,
+}
+
+/// gamma(3) = 3u/(1 - 3u) with u = 2^-53 (pbrt-v3 section 3.9.2).
+const GAMMA3: f64 = 3.0 * (f64::EPSILON * 0.5) / (1.0 - 3.0 * (f64::EPSILON * 0.5));
+
+impl Ray {
+    fn new(o: Vec3, d: Vec3) -> Ray {
+        let inv = Vec3::ONE / d;
+        let a = d.abs();
+        let kz = if a.x >= a.y && a.x >= a.z { 0 } else if a.y >= a.z { 1 } else { 2 };
+        let mut kx = (kz + 1) % 3;
+        let mut ky = (kx + 1) % 3;
+        if d[kz] < 0.0 {
+            std::mem::swap(&mut kx, &mut ky); // keep the winding of the sheared triangle
+        }
+        Ray {
+            o,
+            inv,
+            neg: [d.x < 0.0, d.y < 0.0, d.z < 0.0],
+            kx,
+            ky,
+            kz,
+            sx: d[kx] / d[kz],
+            sy: d[ky] / d[kz],
+            sz: 1.0 / d[kz],
+        }
+    }
+
+    #[inline]
+    fn hits_box(&self, lo: Vec3, hi: Vec3, tmin: f64, tmax: f64) -> bool {
+        let mut near = tmin;
+        let mut far = tmax;
+        for i in 0..3 {
+            if self.inv[i].is_infinite() {
+                // Ray parallel to this slab: inside it or never (avoids 0 * inf = NaN).
+                if self.o[i] < lo[i] || self.o[i] > hi[i] {
+                    return false;
+                }
+                continue;
+            }
+            let t0 = (lo[i] - self.o[i]) * self.inv[i];
+            let t1 = (hi[i] - self.o[i]) * self.inv[i];
+            let (a, b) = if t0 <= t1 { (t0, t1) } else { (t1, t0) };
+            near = near.max(a);
+            far = far.min(b * (1.0 + 2.0 * GAMMA3));
+        }
+        near <= far
+    }
+
+    /// Watertight ray-triangle test (Woop, Benthin & Wald 2013); returns t in (tmin, tmax).
+    #[inline]
+    fn hit_tri(&self, tri: &Tri, tmin: f64, tmax: f64) -> Option<f64> {
+        let a = tri.v[0] - self.o;
+        let b = tri.v[1] - self.o;
+        let c = tri.v[2] - self.o;
+        let (kx, ky, kz) = (self.kx, self.ky, self.kz);
+        let ax = a[kx] - self.sx * a[kz];
+        let ay = a[ky] - self.sy * a[kz];
+        let bx = b[kx] - self.sx * b[kz];
+        let by = b[ky] - self.sy * b[kz];
+        let cx = c[kx] - self.sx * c[kz];
+        let cy = c[ky] - self.sy * c[kz];
+        let u = cx * by - cy * bx;
+        let v = ax * cy - ay * cx;
+        let w = bx * ay - by * ax;
+        if (u < 0.0 || v < 0.0 || w < 0.0) && (u > 0.0 || v > 0.0 || w > 0.0) {
+            return None;
+        }
+        let det = u + v + w;
+        if det == 0.0 {
+            return None; // ray in the triangle's plane: it grazes, it does not cross
+        }
+        let t = (u * self.sz * a[kz] + v * self.sz * b[kz] + w * self.sz * c[kz]) / det;
+        if t > tmin && t < tmax {
+            Some(t)
+        } else {
+            None
+        }
+    }
+}
+
+impl Visibility for Bvh {
+    fn first_hit(&self, origin: Vec3, dir: Vec3, tmin: f64, tmax: f64, ignore: &[u32]) -> Option<Hit> {
+        if !(origin.is_finite() && dir.is_finite()) || dir == Vec3::ZERO || !(tmin < tmax) {
+            return None;
+        }
+        let ray = Ray::new(origin, dir);
+        let mut best: Option<(u32, f64)> = None;
+        self.traverse(&ray, tmin, tmax, |tri, t| {
+            if ignore.contains(&tri.id) {
+                return None;
+            }
+            best = Some((tri.id, t));
+            Some(t)
+        });
+        best.map(|(id, t)| Hit { id, t, front: dir.dot(self.normals[id as usize]) < 0.0 })
+    }
+
+    /// The open segment a -> b, shortened at both ends by a relative offset
+    /// `1e-9 + 1e-12 * max|coordinate| / |b - a|` (in units of the segment), so that rounding
+    /// in the position of an end point that lies on a polygon, or on an edge or corner
+    /// where polygons meet, never counts as a blocker.
+    fn occluded(&self, a: Vec3, b: Vec3, ignore: &[u32]) -> bool {
+        let d = b - a;
+        let len = d.length();
+        if !(len > 0.0) || !len.is_finite() {
+            return false;
+        }
+        let eps = SEGMENT_EPS + 1e-12 * self.max_abs.max(a.abs().max_element()) / len;
+        if eps >= 0.5 {
+            return false; // the two points coincide at the scene's precision
+        }
+        let ray = Ray::new(a, d);
+        let mut blocked = false;
+        self.traverse(&ray, eps, 1.0 - eps, |tri, _| {
+            if ignore.contains(&tri.id) {
+                return None;
+            }
+            blocked = true;
+            Some(f64::NEG_INFINITY)
+        });
+        blocked
+    }
+
+    /// Conservative shaft culling. The shaft is the convex hull H of the two polygons'
+    /// vertices. A triangle is a candidate unless one of these separates it from H (each
+    /// with a tolerance of 1e-10 of the pair's size, so polygons that merely touch H, such
+    /// as neighbours sharing an edge with a or b, are not candidates):
+    /// * H's bounding box;
+    /// * a supporting plane of H: the planes of a and of b when the other lies on one side,
+    ///   and for each edge of one polygon the two extreme planes through that edge that
+    ///   keep all vertices of both on one side;
+    /// * the triangle's own plane (all of H on one side).
+    ///
+    /// Any set of supporting planes bounds a superset of H, so no polygon meeting H's
+    /// interior is ever dropped. `out` is cleared first; ids are sorted and unique.
+    fn candidates_between(&self, a: &Polygon, b: &Polygon, ignore: &[u32], out: &mut Vec<u32>) {
+        out.clear();
+        if self.nodes.is_empty() {
+            return;
+        }
+        let shaft = Shaft::new(a, b, self.max_abs);
+        let mut stack = vec![0usize];
+        while let Some(node) = stack.pop() {
+            let n = &self.nodes[node];
+            if !shaft.may_meet_box(n.lo, n.hi) {
+                continue;
+            }
+            if n.count == 0 {
+                stack.push(node + 1);
+                stack.push(n.offset as usize);
+                continue;
+            }
+            let s = n.offset as usize;
+            for tri in &self.tris[s..s + n.count as usize] {
+                if ignore.contains(&tri.id) || out.last() == Some(&tri.id) {
+                    continue;
+                }
+                if shaft.may_meet_triangle(&tri.v, self.normals[tri.id as usize]) {
+                    out.push(tri.id);
+                }
+            }
+        }
+        out.sort_unstable();
+        out.dedup();
+    }
+}
+
+/// The convex hull of two polygons, described by its bounding box and supporting planes
+/// n . x <= d (outward n), each with its own tolerance.
+pub(crate) struct Shaft {
+    lo: Vec3,
+    hi: Vec3,
+    planes: Vec<(Vec3, f64, f64)>,
+    points: Vec<Vec3>,
+    tol: f64,
+}
+
+impl Shaft {
+    pub(crate) fn new(a: &Polygon, b: &Polygon, scene_max_abs: f64) -> Shaft {
+        let mut points: Vec<Vec3> = a.vertices().iter().chain(b.vertices()).copied().collect();
+        let mut lo = Vec3::splat(f64::INFINITY);
+        let mut hi = Vec3::splat(f64::NEG_INFINITY);
+        for p in &points {
+            lo = lo.min(*p);
+            hi = hi.max(*p);
+        }
+        let size = (hi - lo).length();
+        let max_abs = lo.abs().max(hi.abs()).max_element().max(scene_max_abs);
+        // Rounding of any plane evaluation is ~ eps * max|x|; keep the tolerance above it.
+        let tol = SHAFT_TOL * size + 64.0 * f64::EPSILON * max_abs;
+        let lo_t = lo - Vec3::splat(tol);
+        let hi_t = hi + Vec3::splat(tol);
+        let mut planes = Vec::new();
+        for (p, q) in [(a, b), (b, a)] {
+            // Plane of p, when q lies on one side of it.
+            let n = p.normal();
+            let c = p.centroid();
+            let (mut smin, mut smax) = (f64::INFINITY, f64::NEG_INFINITY);
+            for v in q.vertices() {
+                let s = (v - c).dot(n);
+                smin = smin.min(s);
+                smax = smax.max(s);
+            }
+            if smin >= -tol {
+                planes.push((-n, -n.dot(c), tol));
+            } else if smax <= tol {
+                planes.push((n, n.dot(c), tol));
+            }
+            // Extreme planes through each edge of p.
+            let pv = p.vertices();
+            for i in 0..pv.len() {
+                let (e0, e1) = (pv[i], pv[(i + 1) % pv.len()]);
+                edge_planes(e0, e1, n, &points, tol, max_abs, &mut planes);
+            }
+        }
+        points.shrink_to_fit();
+        Shaft { lo: lo_t, hi: hi_t, planes, points, tol }
+    }
+
+    /// False only if the box lies outside the hull's box or outside one supporting plane.
+    #[inline]
+    fn may_meet_box(&self, lo: Vec3, hi: Vec3) -> bool {
+        if lo.x > self.hi.x || lo.y > self.hi.y || lo.z > self.hi.z || hi.x < self.lo.x || hi.y < self.lo.y || hi.z < self.lo.z
+        {
+            return false;
+        }
+        let c = 0.5 * (lo + hi);
+        let h = 0.5 * (hi - lo);
+        self.planes.iter().all(|&(n, d, tol)| n.dot(c) - n.abs().dot(h) < d - tol)
+    }
+
+    /// False only if the triangle is separated from the hull (up to the tolerance).
+    pub(crate) fn may_meet_triangle(&self, v: &[Vec3; 3], normal: Vec3) -> bool {
+        let lo = v[0].min(v[1]).min(v[2]);
+        let hi = v[0].max(v[1]).max(v[2]);
+        if lo.x > self.hi.x || lo.y > self.hi.y || lo.z > self.hi.z || hi.x < self.lo.x || hi.y < self.lo.y || hi.z < self.lo.z
+        {
+            return false;
+        }
+        for &(n, d, tol) in &self.planes {
+            if v.iter().all(|x| n.dot(*x) >= d - tol) {
+                return false;
+            }
+        }
+        // The triangle's plane separates when every hull vertex is on one side (or on it).
+        let (mut smin, mut smax) = (f64::INFINITY, f64::NEG_INFINITY);
+        for p in &self.points {
+            let s = (p - v[0]).dot(normal);
+            smin = smin.min(s);
+            smax = smax.max(s);
+        }
+        !(smin >= -self.tol || smax <= self.tol)
+    }
+}
+
+/// Adds the (up to two) supporting planes of the point set through the line e0 -> e1.
+///
+/// In the plane perpendicular to the edge, with axes m1 = edge x n (the polygon's outward
+/// edge normal) and m2 = n, every point is a 2-D direction from the edge line. The polygon
+/// itself lies along -m1 (angle pi). Angles are measured relative to that direction in
+/// (-pi, pi]; if all of them fit within a half-turn, the two end directions span supporting
+/// planes of the hull. Points on the edge line itself carry no direction and are skipped.
+fn edge_planes(e0: Vec3, e1: Vec3, n: Vec3, points: &[Vec3], tol: f64, max_abs: f64, planes: &mut Vec<(Vec3, f64, f64)>) {
+    let edge = e1 - e0;
+    let len = edge.length();
+    if !(len > 0.0) {
+        return;
+    }
+    let e = edge / len;
+    let m1 = e.cross(n);
+    let m2 = n;
+    let mut reach: f64 = 0.0;
+    let (mut lo, mut hi) = (0.0f64, 0.0f64); // angles relative to -m1; the polygon is at 0
+    let (mut dir_lo, mut dir_hi) = (-m1, -m1);
+    for p in points {
+        let r = p - e0;
+        let x = r.dot(m1);
+        let y = r.dot(m2);
+        let rho = x.hypot(y);
+        reach = reach.max(r.length());
+        if rho <= 1e-12 * len.max(r.length()) {
+            continue;
+        }
+        // Angle relative to -m1: rotate (x, y) by pi.
+        let ang = (-y).atan2(-x);
+        if ang < lo {
+            lo = ang;
+            dir_lo = (x * m1 + y * m2) / rho;
+        }
+        if ang > hi {
+            hi = ang;
+            dir_hi = (x * m1 + y * m2) / rho;
+        }
+    }
+    if hi - lo >= std::f64::consts::PI {
+        return; // the points surround the edge line: no supporting plane through it
+    }
+    // The edge direction's rounding (~ eps max|x| / |edge|) tilts the plane; at distance
+    // `reach` that moves it by about reach times that.
+    let tol_p = tol + 16.0 * f64::EPSILON * max_abs * reach / len;
+    // Outward normals: perpendicular to the extreme directions, pointing away from the rest.
+    // All angles lie in [lo, hi]: at the `lo` end the others are counter-clockwise from dir_lo.
+    // The (m1, m2) frame turns counter-clockwise about -e (m1 x m2 = -e), so a turn by
+    // -90 degrees is v -> e x v and one by +90 degrees is v -> v x e.
+    let n_lo = e.cross(dir_lo);
+    let n_hi = dir_hi.cross(e);
+    for nn in [n_lo, n_hi] {
+        let nn = nn.normalize();
+        planes.push((nn, nn.dot(e0), tol_p));
+    }
+}
+
+#[cfg(test)]
+#[path = "bvh_tests.rs"]
+mod tests;
