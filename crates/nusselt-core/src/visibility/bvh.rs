@@ -612,4 +612,4 @@ fn edge_planes(e0: Vec3, e1: Vec3, n: Vec3, points: &[Vec3], tol: f64, max_abs: 
 
 #[cfg(test)]
 #[path = "bvh_tests.rs"]
-mod tests;
+pub(crate) mod tests;

@@ -438,3 +438,63 @@ fn shaft_from_a_point_sized_source() {
     bvh.candidates_between(&src, &b, &[0], &mut out);
     assert_eq!(out, vec![1, 2, 4]);
 }
+
+/// Throughput on a subdivided room (120 x 120 patches per wall) with an inner box:
+/// `cargo test -p nusselt-core --release --lib visibility::bvh::tests::bench_rays -- --ignored --nocapture`
+#[test]
+#[ignore]
+fn bench_rays() {
+    use rayon::prelude::*;
+    use std::time::Instant;
+    let mut polys = room(Vec3::ZERO, Vec3::new(4.0, 5.0, 3.0), 120, true);
+    polys.extend(room(Vec3::new(1.5, 2.0, 0.5), Vec3::new(2.5, 3.0, 1.5), 10, false));
+    let t = Instant::now();
+    let bvh = Bvh::new(&polys).unwrap();
+    let build = t.elapsed().as_secs_f64();
+    println!("{} polygons, {} triangles, {} nodes, build {:.3} s", polys.len(), bvh.triangle_count(), bvh.nodes.len(), build);
+    // Rays from random floor points, cosine-distributed directions.
+    let n = 1_000_000usize;
+    let mut rng = Rng::new(1);
+    let rays: Vec<(Vec3, Vec3)> = (0..n)
+        .map(|_| {
+            let o = Vec3::new(rng.range(0.0, 4.0), rng.range(0.0, 5.0), 0.0);
+            (o, crate::sampling::cosine_hemisphere([rng.f(), rng.f()]))
+        })
+        .collect();
+    let segs: Vec<(Vec3, Vec3)> = (0..n)
+        .map(|_| (Vec3::new(rng.range(0.0, 4.0), rng.range(0.0, 5.0), 0.0), Vec3::new(rng.range(0.0, 4.0), rng.range(0.0, 5.0), 3.0)))
+        .collect();
+    let t = Instant::now();
+    let hits = rays.iter().filter(|(o, d)| bvh.first_hit(*o, *d, 1e-9, f64::INFINITY, &[]).is_some()).count();
+    let fh = n as f64 / t.elapsed().as_secs_f64();
+    let t = Instant::now();
+    let blocked = segs.iter().filter(|(a, b)| bvh.occluded(*a, *b, &[])).count();
+    let oc = n as f64 / t.elapsed().as_secs_f64();
+    let t = Instant::now();
+    let hits2 = rays.par_iter().filter(|(o, d)| bvh.first_hit(*o, *d, 1e-9, f64::INFINITY, &[]).is_some()).count();
+    let fh_par = n as f64 / t.elapsed().as_secs_f64();
+    println!("first_hit: {:.2} Mrays/s (1 thread), {:.2} Mrays/s ({} threads); hits {hits}", fh / 1e6, fh_par / 1e6, rayon::current_num_threads());
+    println!("occluded:  {:.2} Mrays/s (1 thread), blocked {blocked}", oc / 1e6);
+    assert_eq!(hits, hits2);
+    assert_eq!(hits, n); // closed room: every ray hits something
+    // Shaft culling cost for pairs of floor and ceiling patches.
+    let k = 120 * 120;
+    let t = Instant::now();
+    let mut out = Vec::new();
+    let mut total = 0;
+    let mut nonempty = 0;
+    let pairs = 20_000;
+    for p in 0..pairs {
+        // floor patch (ids 4k..5k) to ceiling patch (ids 5k..6k)
+        let i = 4 * k + (p * 7919) % k;
+        let j = 5 * k + (p * 104729) % k;
+        bvh.candidates_between(&polys[i], &polys[j], &[i as u32, j as u32], &mut out);
+        total += out.len();
+        nonempty += !out.is_empty() as usize;
+    }
+    println!(
+        "candidates_between floor-ceiling: {:.1} us/pair, {nonempty} of {pairs} pairs have candidates, mean {:.1} candidates",
+        t.elapsed().as_secs_f64() / pairs as f64 * 1e6,
+        total as f64 / pairs as f64
+    );
+}

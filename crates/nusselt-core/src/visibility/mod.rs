@@ -5,6 +5,7 @@
 use crate::geometry::{Polygon, Vec3};
 
 pub mod bvh;
+pub mod shadow;
 
 pub use bvh::Bvh;
 

@@ -1,0 +1,236 @@
+use super::*;
+use crate::visibility::bvh::tests::{ray_polygon, rect, Rng};
+
+fn poly(v: &[[f64; 3]]) -> Polygon {
+    Polygon::new(v.iter().map(|p| Vec3::from_array(*p)).collect()).unwrap()
+}
+
+/// Signed area of the visible part about the receiver's normal (holes subtract).
+fn visible_area(p: Vec3, n: Vec3, rec: &Polygon, blockers: &[&Polygon]) -> f64 {
+    visible_part(p, n, rec, blockers).iter().map(|c| 0.5 * newell_normal(c).dot(rec.normal())).sum()
+}
+
+fn floor() -> Polygon {
+    rect(2, 0.0, (0., 1.), (0., 1.), true)
+}
+
+/// Regular n-gon of radius r centred on the z axis at height z, facing `up` or down.
+fn ngon(r: f64, z: f64, n: usize, up: bool) -> Polygon {
+    let mut v: Vec<Vec3> = (0..n)
+        .map(|k| {
+            let a = std::f64::consts::TAU * k as f64 / n as f64;
+            Vec3::new(r * a.cos(), r * a.sin(), z)
+        })
+        .collect();
+    if !up {
+        v.reverse();
+    }
+    Polygon::new(v).unwrap()
+}
+
+fn ngon_area(r: f64, n: usize) -> f64 {
+    0.5 * n as f64 * r * r * (std::f64::consts::TAU / n as f64).sin()
+}
+
+const P: Vec3 = Vec3::new(0.5, 0.5, 1.0);
+const DOWN: Vec3 = Vec3::new(0.0, 0.0, -1.0);
+
+#[test]
+fn unobstructed_is_the_receiver() {
+    let f = floor();
+    let parts = visible_part(P, DOWN, &f, &[]);
+    assert_eq!(parts.len(), 1);
+    assert!((visible_area(P, DOWN, &f, &[]) - 1.0).abs() < 1e-15);
+    // p behind the receiver, or on its plane: it sees the back side, nothing is received
+    assert!(visible_part(Vec3::new(0.5, 0.5, -1.0), Vec3::Z, &f, &[]).is_empty());
+    assert!(visible_part(Vec3::new(2.0, 0.5, 0.0), -Vec3::X, &f, &[]).is_empty());
+    // bad input
+    assert!(visible_part(Vec3::NAN, DOWN, &f, &[]).is_empty());
+    assert!(visible_part(P, Vec3::ZERO, &f, &[]).is_empty());
+}
+
+#[test]
+fn receiver_is_clipped_to_the_points_front() {
+    // p's element faces +x at x = 0.3: only x >= 0.3 of the floor is in front of it.
+    let f = floor();
+    let a = visible_area(Vec3::new(0.3, 0.5, 0.5), Vec3::X, &f, &[]);
+    assert!((a - 0.7).abs() < 1e-14, "{a}");
+}
+
+#[test]
+fn blocker_hiding_exactly_half() {
+    // Blocker at half height over x in [0.5, 1.0]: its shadow from p (height 1) doubles about
+    // p's foot, covering x in [0.5, 1.5] -> hides exactly the half x > 0.5.
+    let f = floor();
+    for up in [true, false] {
+        let b = rect(2, 0.5, (0.5, 1.0), (-1.0, 2.0), up);
+        let a = visible_area(P, DOWN, &f, &[&b]);
+        assert!((a - 0.5).abs() < 1e-14, "{a}");
+    }
+}
+
+#[test]
+fn full_behind_source_behind_receiver_and_two_sided() {
+    let f = floor();
+    let big = rect(2, 0.5, (-1.0, 2.0), (-1.0, 2.0), true);
+    assert!(visible_part(P, DOWN, &f, &[&big]).is_empty());
+    let big_down = rect(2, 0.5, (-1.0, 2.0), (-1.0, 2.0), false);
+    assert!(visible_part(P, DOWN, &f, &[&big_down]).is_empty());
+    // behind the source point (above it), and behind the receiver (below it): no effect
+    let above = rect(2, 1.5, (-1.0, 2.0), (-1.0, 2.0), true);
+    let below = rect(2, -0.5, (-1.0, 2.0), (-1.0, 2.0), false);
+    assert!((visible_area(P, DOWN, &f, &[&above, &below]) - 1.0).abs() < 1e-15);
+    // a blocker in the receiver's plane (a neighbour patch) and one through p (edge-on)
+    let neighbour = rect(2, 0.0, (1.0, 2.0), (0.0, 1.0), true);
+    let edge_on = rect(0, 0.5, (-1.0, 2.0), (0.5, 1.0), true);
+    assert!((visible_area(P, DOWN, &f, &[&neighbour, &edge_on]) - 1.0).abs() < 1e-15);
+}
+
+#[test]
+fn coaxial_disc_blocker_area() {
+    // algorithms.md 8.3(a) with polygons: the blocker N-gon (r3, h3) casts from the apex an
+    // N-gon of radius r3 h2 / h3 on the target plane; inside the target when r3/h3 <= r2/h2.
+    // Source at the origin looking up, target at height h2 facing down.
+    let nsides = 96;
+    let (r2, h2) = (1.3, 2.0);
+    let target = ngon(r2, h2, nsides, false);
+    for (r3, h3) in [(0.3, 0.7), (0.5, 1.0), (0.6, 1.5)] {
+        for up in [true, false] {
+            let blocker = ngon(r3, h3, nsides, up);
+            let a = visible_area(Vec3::ZERO, Vec3::Z, &target, &[&blocker]);
+            let want = ngon_area(r2, nsides) - ngon_area(r3 * h2 / h3, nsides);
+            assert!((a - want).abs() < 1e-13, "r3 {r3} h3 {h3}: {a} vs {want}");
+            // one outer contour (CCW about the target normal) and one hole (CW)
+            let parts = visible_part(Vec3::ZERO, Vec3::Z, &target, &[&blocker]);
+            assert_eq!(parts.len(), 2);
+            let areas: Vec<f64> = parts.iter().map(|c| 0.5 * newell_normal(c).dot(target.normal())).collect();
+            assert!(areas.iter().filter(|a| **a > 0.0).count() == 1 && areas.iter().filter(|a| **a < 0.0).count() == 1);
+            // all contour points lie on the target plane
+            for c in &parts {
+                for x in c {
+                    assert!((x.z - h2).abs() < 1e-14);
+                }
+            }
+        }
+    }
+    // r3/h3 > r2/h2: nothing visible
+    assert!(visible_part(Vec3::ZERO, Vec3::Z, &target, &[&ngon(1.0, 1.0, nsides, true)]).is_empty());
+}
+
+#[test]
+fn overlapping_blockers_union_not_double_subtraction() {
+    // Two blockers at half height whose shadows (doubled about p's foot (0.5, 0.5)) are the
+    // squares [0, 0.6]^2 and [0.4, 1]^2: union area 0.36 + 0.36 - 0.04 = 0.68.
+    let f = floor();
+    let b1 = rect(2, 0.5, (0.25, 0.55), (0.25, 0.55), true);
+    let b2 = rect(2, 0.5, (0.45, 0.75), (0.45, 0.75), false);
+    let a = visible_area(P, DOWN, &f, &[&b1, &b2]);
+    assert!((a - (1.0 - 0.68)).abs() < 1e-14, "{a}");
+    // the same blocker twice hides what it hides once
+    let a1 = visible_area(P, DOWN, &f, &[&b1]);
+    let a11 = visible_area(P, DOWN, &f, &[&b1, &b1]);
+    assert!((a1 - (1.0 - 0.36)).abs() < 1e-14 && (a11 - a1).abs() < 1e-14);
+}
+
+#[test]
+fn blocker_crossing_the_source_plane() {
+    // Wall x = 0.75 over z in [0.2, 1.5] crosses p's plane z = 1. A ray from p to (x, y, 0)
+    // meets x = 0.75 at z = 1 - 0.25 / (x - 0.5), which is >= 0.2 for x >= 0.8125.
+    let f = floor();
+    for up in [true, false] {
+        let wall = rect(0, 0.75, (-1.0, 2.0), (0.2, 1.5), up);
+        let a = visible_area(P, DOWN, &f, &[&wall]);
+        assert!((a - 0.8125).abs() < 1e-14, "{a}");
+    }
+    // A wall reaching exactly up to p's height and beyond, right beside p, with p's element
+    // tilted so that part of the floor is behind it.
+    let wall = rect(0, 0.6, (-1.0, 2.0), (0.5, 3.0), true);
+    let n = Vec3::new(-0.3, 0.0, -1.0).normalize();
+    // Front of p's element: -0.3 (x - 0.5) - (z - 1) >= 0 -> on the floor x <= 0.5 + 1/0.3.
+    // The wall hides x >= 0.5 + 0.1 / 0.5 = 0.7.
+    let a = visible_area(P, n, &f, &[&wall]);
+    assert!((a - 0.7).abs() < 1e-14, "{a}");
+}
+
+#[test]
+fn concave_blocker_and_receiver() {
+    // L-shaped receiver (area 3) seen from above its corner; an L-shaped blocker at half
+    // height, whose shadow doubles about p's foot.
+    let rec = poly(&[[0., 0., 0.], [2., 0., 0.], [2., 1., 0.], [1., 1., 0.], [1., 2., 0.], [0., 2., 0.]]);
+    let p = Vec3::new(0.0, 0.0, 1.0);
+    // blocker: L of the square [0, 0.5]^2 minus [0.25, 0.5]^2, at z = 0.5 -> shadow
+    // [0, 1]^2 minus [0.5, 1]^2, area 0.75, all inside the receiver
+    let b = poly(&[[0., 0., 0.5], [0.5, 0., 0.5], [0.5, 0.25, 0.5], [0.25, 0.25, 0.5], [0.25, 0.5, 0.5], [0., 0.5, 0.5]]);
+    let a = visible_area(p, DOWN, &rec, &[&b]);
+    assert!((a - (3.0 - 0.75)).abs() < 1e-14, "{a}");
+}
+
+#[test]
+fn scale_and_translation_invariance() {
+    let f = floor();
+    let b1 = rect(2, 0.5, (0.25, 0.55), (0.25, 0.55), true);
+    let wall = rect(0, 0.75, (-1.0, 2.0), (0.2, 1.5), true);
+    let tilted = poly(&[[0.1, 0.2, 0.3], [0.7, 0.1, 0.6], [0.6, 0.8, 0.4]]);
+    let base = visible_area(P, DOWN, &f, &[&b1, &wall, &tilted]);
+    assert!(base > 0.1 && base < 0.9);
+    let tr = |p: &Polygon, s: f64, o: Vec3| Polygon::new(p.vertices().iter().map(|v| v * s + o).collect()).unwrap();
+    for (s, o) in [(1e-3, Vec3::ZERO), (1e3, Vec3::ZERO), (1.0, Vec3::new(1e3, -2e3, 5e2)), (1e-3, Vec3::new(7.0, 3.0, -1.0))] {
+        let a = visible_area(P * s + o, DOWN, &tr(&f, s, o), &[&tr(&b1, s, o), &tr(&wall, s, o), &tr(&tilted, s, o)]);
+        let rel = (a / (s * s) - base).abs() / base;
+        let lim = if o == Vec3::ZERO { 1e-12 } else { 1e-9 }; // translation costs digits of o/s
+        assert!(rel < lim, "scale {s} offset {o}: {rel:e}");
+    }
+}
+
+/// Independent check: fraction of a fine grid of receiver points whose segment to p crosses
+/// no blocker (plane intersection + winding number, no shadows, no booleans).
+#[test]
+fn random_blockers_match_point_sampling() {
+    let mut rng = Rng::new(99);
+    let rec = poly(&[[0., 0., 0.], [1.0, -0.1, 0.], [1.2, 0.9, 0.], [0.1, 1.0, 0.]]);
+    let k = 160;
+    for case in 0..6 {
+        let p = Vec3::new(rng.range(0.2, 0.8), rng.range(0.2, 0.8), rng.range(0.6, 1.2));
+        let n = (DOWN + 0.4 * rng.unit()).normalize();
+        let blockers: Vec<Polygon> = (0..6)
+            .map(|_| {
+                // on the segment from p to a random receiver point, some beyond either end
+                let y = Vec3::new(rng.range(0.0, 1.0), rng.range(0.0, 1.0), 0.0);
+                let c = p + rng.range(-0.1, 1.1) * (y - p);
+                let s = rng.range(0.05, 0.2);
+                // a regular polygon tilted up to ~35 degrees from horizontal, facing either way
+                let nb = (Vec3::Z * if rng.f() < 0.5 { 1.0 } else { -1.0 } + 0.7 * rng.unit()).normalize();
+                let (t, b) = crate::geometry::tangent_frame(nb);
+                let m = 3 + (rng.f() * 3.0) as usize;
+                let ph = rng.f();
+                let vs = (0..m)
+                    .map(|k| {
+                        let a = std::f64::consts::TAU * (k as f64 + ph) / m as f64;
+                        c + s * (a.cos() * t + a.sin() * b)
+                    })
+                    .collect();
+                Polygon::new(vs).unwrap()
+            })
+            .collect();
+        let refs: Vec<&Polygon> = blockers.iter().collect();
+        let got = visible_area(p, n, &rec, &refs);
+        // Midpoint grid over the receiver's bounding box, kept where inside the receiver.
+        let mut seen = 0.0;
+        let cell = 1.3 * 1.1 / (k * k) as f64;
+        for i in 0..k {
+            for j in 0..k {
+                let x = Vec3::new(-0.05 + 1.3 * (i as f64 + 0.5) / k as f64, -0.1 + 1.1 * (j as f64 + 0.5) / k as f64, 0.0);
+                if ray_polygon(&rec, x + Vec3::Z, -Vec3::Z).is_none() || n.dot(x - p) < 0.0 {
+                    continue;
+                }
+                let blocked = blockers.iter().any(|b| ray_polygon(b, p, x - p).is_some_and(|t| t > 0.0 && t < 1.0));
+                if !blocked {
+                    seen += cell;
+                }
+            }
+        }
+        // grid error ~ boundary length x cell size
+        assert!(got < 0.9 * rec.area(), "case {case}: blockers hide too little ({got})");
+        assert!((got - seen).abs() < 0.002, "case {case}: shadow {got} vs grid {seen}");
+    }
+}
