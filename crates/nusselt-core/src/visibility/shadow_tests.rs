@@ -216,6 +216,7 @@ fn random_blockers_match_point_sampling() {
         let got = visible_area(p, n, &rec, &refs);
         // Midpoint grid over the receiver's bounding box, kept where inside the receiver.
         let mut seen = 0.0;
+        let mut f_grid = 0.0;
         let cell = 1.3 * 1.1 / (k * k) as f64;
         for i in 0..k {
             for j in 0..k {
@@ -226,11 +227,103 @@ fn random_blockers_match_point_sampling() {
                 let blocked = blockers.iter().any(|b| ray_polygon(b, p, x - p).is_some_and(|t| t > 0.0 && t < 1.0));
                 if !blocked {
                     seen += cell;
+                    let d = x - p;
+                    let r2 = d.length_squared();
+                    f_grid += cell * n.dot(d) * p.z / (std::f64::consts::PI * r2 * r2);
                 }
             }
         }
         // grid error ~ boundary length x cell size
         assert!(got < 0.9 * rec.area(), "case {case}: blockers hide too little ({got})");
         assert!((got - seen).abs() < 0.002, "case {case}: shadow {got} vs grid {seen}");
+        // the view factor against the same grid weighted by cos cos / (pi r^2)
+        let f = point_visible_view_factor(p, n, &rec, &refs);
+        assert!((f - f_grid).abs() < 2e-3 * f.max(0.05), "case {case}: F {f} vs grid {f_grid}");
     }
+}
+
+fn f_vis(p: Vec3, n: Vec3, rec: &Polygon, blockers: &[&Polygon]) -> f64 {
+    point_visible_view_factor(p, n, rec, blockers)
+}
+
+/// Unobstructed Lambert F to a polygon's own outline (flipped to face p if needed).
+fn f_plain(p: Vec3, n: Vec3, poly: &Polygon) -> f64 {
+    lambert_contour(p, n, poly.vertices()).abs()
+}
+
+#[test]
+fn lambert_matches_corner_rectangle_formula_and_quadrature() {
+    // dA on the axis of a square (side 1) at distance 1 = 4 x corner rectangle 0.5 x 0.5
+    // (Howell B-3): F = (1/2pi) [A/sqrt(1+A^2) atan(B/sqrt(1+A^2)) + (A <-> B)], A = B = 0.5.
+    let (a, b) = (0.5f64, 0.5f64);
+    let corner = (a / (1.0 + a * a).sqrt() * (b / (1.0 + a * a).sqrt()).atan()
+        + b / (1.0 + b * b).sqrt() * (a / (1.0 + b * b).sqrt()).atan())
+        / std::f64::consts::TAU;
+    // midpoint quadrature of cos cos / (pi r^2) over the square: checks the closed form
+    let k = 400;
+    let mut quad = 0.0;
+    for i in 0..k {
+        for j in 0..k {
+            let (x, y) = ((i as f64 + 0.5) / k as f64 - 0.5, (j as f64 + 0.5) / k as f64 - 0.5);
+            let r2 = x * x + y * y + 1.0;
+            quad += 1.0 / (std::f64::consts::PI * r2 * r2) / (k * k) as f64;
+        }
+    }
+    assert!((quad - 4.0 * corner).abs() < 1e-6, "{quad} {}", 4.0 * corner);
+    let f = f_vis(P, DOWN, &floor(), &[]);
+    assert!((f - 4.0 * corner).abs() < 1e-15, "{f}");
+    assert!((f - 0.239456).abs() < 1e-6);
+}
+
+#[test]
+fn coaxial_disc_blocker_view_factor() {
+    // algorithms.md 8.3(a): with the blocker's central shadow inside the target,
+    // F_visible = F(target) - F(blocker), both unobstructed (same polygonal geometry).
+    let nsides = 128;
+    let (r2, h2) = (1.3, 2.0);
+    let target = ngon(r2, h2, nsides, false);
+    let disc = |r: f64, h: f64| r * r / (h * h + r * r);
+    for (r3, h3) in [(0.3, 0.7), (0.5, 1.0), (0.6, 1.5)] {
+        for up in [true, false] {
+            let blocker = ngon(r3, h3, nsides, up);
+            let f = f_vis(Vec3::ZERO, Vec3::Z, &target, &[&blocker]);
+            let want = f_plain(Vec3::ZERO, Vec3::Z, &target) - f_plain(Vec3::ZERO, Vec3::Z, &blocker);
+            assert!((f - want).abs() < 1e-14, "{f} vs {want}");
+            // and the discs' closed form, up to the polygon's O(1/N^2) shortfall
+            let exact_disc = disc(r2, h2) - disc(r3, h3);
+            assert!((f - exact_disc).abs() < 1e-3, "{f} vs disc {exact_disc}");
+        }
+    }
+    assert_eq!(f_vis(Vec3::ZERO, Vec3::Z, &target, &[&ngon(1.0, 1.0, nsides, true)]), 0.0);
+}
+
+#[test]
+fn view_factor_half_hidden_crossing_two_sided_and_scaled() {
+    let f = floor();
+    let half = rect(2, 0.0, (0.0, 0.5), (0.0, 1.0), true);
+    let b = rect(2, 0.5, (0.5, 1.0), (-1.0, 2.0), true);
+    let b_rev = rect(2, 0.5, (0.5, 1.0), (-1.0, 2.0), false);
+    let want = f_plain(P, DOWN, &half);
+    assert!((f_vis(P, DOWN, &f, &[&b]) - want).abs() < 1e-15);
+    assert!((f_vis(P, DOWN, &f, &[&b_rev]) - want).abs() < 1e-15);
+    // symmetric about x = 0.5: half of the whole
+    assert!((2.0 * want - f_plain(P, DOWN, &f)).abs() < 1e-15);
+    // wall crossing the source plane: visible strip x in [0, 0.8125]
+    let wall = rect(0, 0.75, (-1.0, 2.0), (0.2, 1.5), false);
+    let strip = rect(2, 0.0, (0.0, 0.8125), (0.0, 1.0), true);
+    assert!((f_vis(P, DOWN, &f, &[&wall]) - f_plain(P, DOWN, &strip)).abs() < 1e-14);
+    // behind source / behind receiver: no effect
+    let above = rect(2, 1.5, (-1.0, 2.0), (-1.0, 2.0), true);
+    let below = rect(2, -0.5, (-1.0, 2.0), (-1.0, 2.0), false);
+    assert_eq!(f_vis(P, DOWN, &f, &[&above, &below]), f_plain(P, DOWN, &f));
+    // scale invariance of F
+    let tilted = poly(&[[0.1, 0.2, 0.3], [0.7, 0.1, 0.6], [0.6, 0.8, 0.4]]);
+    let base = f_vis(P, DOWN, &f, &[&b, &wall, &tilted]);
+    assert!(base > 0.01);
+    let sc = |p: &Polygon, s: f64| Polygon::new(p.vertices().iter().map(|v| v * s).collect()).unwrap();
+    for s in [1e-3, 1e3] {
+        let fs = f_vis(P * s, DOWN, &sc(&f, s), &[&sc(&b, s), &sc(&wall, s), &sc(&tilted, s)]);
+        assert!((fs - base).abs() < 1e-12 * base, "{s}: {fs} vs {base}");
+    }
+    assert!(f_vis(Vec3::NAN, DOWN, &f, &[]).is_nan());
 }
