@@ -327,3 +327,28 @@ fn view_factor_half_hidden_crossing_two_sided_and_scaled() {
     }
     assert!(f_vis(Vec3::NAN, DOWN, &f, &[]).is_nan());
 }
+
+/// `cargo test -p nusselt-core --release --lib visibility::shadow::tests::bench_visible -- --ignored --nocapture`
+#[test]
+#[ignore]
+fn bench_visible() {
+    let f = floor();
+    let b1 = rect(2, 0.5, (0.25, 0.55), (0.25, 0.55), true);
+    let wall = rect(0, 0.75, (-1.0, 2.0), (0.2, 1.5), true);
+    let tilted = poly(&[[0.1, 0.2, 0.3], [0.7, 0.1, 0.6], [0.6, 0.8, 0.4]]);
+    let n = 20_000;
+    let t = std::time::Instant::now();
+    let mut acc = 0.0;
+    for i in 0..n {
+        let p = Vec3::new(0.3 + 0.4 * (i as f64 / n as f64), 0.5, 1.0);
+        acc += point_visible_view_factor(p, DOWN, &f, &[&b1, &wall, &tilted]);
+    }
+    let dt = t.elapsed().as_secs_f64() / n as f64;
+    println!("point_visible_view_factor, 3 blockers: {:.1} us/call (mean F {:.4})", dt * 1e6, acc / n as f64);
+    let t = std::time::Instant::now();
+    for i in 0..n {
+        let p = Vec3::new(0.3 + 0.4 * (i as f64 / n as f64), 0.5, 1.0);
+        acc += point_visible_view_factor(p, DOWN, &f, &[]);
+    }
+    println!("no blockers: {:.2} us/call", t.elapsed().as_secs_f64() / n as f64 * 1e6);
+}
