@@ -1,0 +1,71 @@
+"""File input and output for nusselt: scene readers and result writers.
+
+Readers return a plain :class:`SceneData` (``Scene.from_file`` builds a ``Scene`` from it);
+every parse error is a one-line ``ValueError`` (or ``OSError`` for missing/unreadable
+files) naming the file, the line or element, and the problem.
+
+>>> from nusselt.io import read_scene, load_npz
+>>> data = read_scene("room.vs3")            # .obj, .vs3, or any meshio format
+>>> r = load_npz("out.npz"); F = r["matrix"]  # scipy.sparse.csr_array, row = source
+
+This package does not import the compiled core, so files can be read and written without it.
+"""
+
+from __future__ import annotations
+
+import os
+
+from .meshes import read_mesh
+from .obj import read_obj
+from .scenedata import SceneData
+from .view3d import read_view3d, read_view3d_output
+from .writers import (
+    load_npz,
+    result_format,
+    write_csv,
+    write_energyplus,
+    write_npz,
+    write_result,
+    write_view3d,
+    write_vtu,
+)
+
+_OWN = {".obj": "obj", ".vs3": "view3d"}
+
+
+def read_scene(path, format: str | None = None) -> SceneData:
+    """Read a scene file: ``.obj`` (own reader: objects/groups become surfaces), ``.vs3``
+    (View3D), anything else through meshio. ``format`` overrides the extension: ``"obj"``,
+    ``"view3d"`` (or ``"vs3"``), or a meshio format name (``"stl"``, ``"gmsh"``, ``"vtu"`` ...)."""
+    path = os.fspath(path)
+    if format is not None:
+        f = format.lower()
+        if f == "obj":
+            return read_obj(path)
+        if f in ("vs3", "view3d"):
+            return read_view3d(path)
+        return read_mesh(path, format=format)
+    kind = _OWN.get(os.path.splitext(path)[1].lower())
+    if kind == "obj":
+        return read_obj(path)
+    if kind == "view3d":
+        return read_view3d(path)
+    return read_mesh(path)
+
+
+__all__ = [
+    "SceneData",
+    "read_scene",
+    "read_obj",
+    "read_view3d",
+    "read_mesh",
+    "read_view3d_output",
+    "write_npz",
+    "load_npz",
+    "write_csv",
+    "write_view3d",
+    "write_energyplus",
+    "write_vtu",
+    "write_result",
+    "result_format",
+]

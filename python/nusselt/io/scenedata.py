@@ -1,0 +1,109 @@
+"""The plain container every scene reader returns (``Scene`` is built from it)."""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass, field
+
+import numpy as np
+
+
+def parse_error(source: str, where: str | None, problem: str) -> ValueError:
+    """A one-line ``ValueError``: ``"<file>, <where>: <problem>"``.
+
+    Every reader raises through this so that messages look alike, e.g.
+    ``scene.vs3, line 12: surface 4 refers to vertex 9, but only 8 vertices are defined``."""
+    problem = " ".join(str(problem).split())  # one line, whatever the cause said
+    head = f"{source}, {where}" if where else str(source)
+    return ValueError(f"{head}: {problem}")
+
+
+def check_readable(path: str) -> None:
+    """Raise ``OSError`` (missing, a directory, unreadable) or ``ValueError`` (empty file)
+    with a one-line message naming the file."""
+    if not os.path.exists(path):
+        raise FileNotFoundError(f"{path}: no such file")
+    if os.path.isdir(path):
+        raise IsADirectoryError(f"{path}: is a directory, not a scene file")
+    if not os.access(path, os.R_OK):
+        raise PermissionError(f"{path}: permission denied")
+    if os.path.getsize(path) == 0:
+        raise parse_error(path, None, "the file is empty")
+
+
+@dataclass
+class SceneData:
+    """Polygons with named surfaces, as read from a file.
+
+    Attributes
+    ----------
+    vertices : (V, 3) float64
+    faces : list of int64 arrays
+        Vertex indices of each polygon (n >= 3), counter-clockwise seen from the front.
+    surface : (F,) int64
+        Index into ``names`` of each polygon's named surface.
+    names : list of str
+        Surface names, unique.
+    obstruction : (F,) bool
+        Polygons that block radiation but get no row or column.
+    emissivity : (len(names),) float64 or None
+        Per named surface (NaN where the file gives none, e.g. obstruction-only surfaces).
+    origin : list of str
+        Where each polygon came from, for error messages ("line 17", "cell 42").
+    source : str
+        The file path.
+    meta : dict
+        Format-specific extras (View3D: title, controls such as ``encl`` and ``emit``,
+        the per-surface records; meshes: where the names came from ...).
+    """
+
+    vertices: np.ndarray
+    faces: list
+    surface: np.ndarray
+    names: list
+    obstruction: np.ndarray
+    emissivity: np.ndarray | None
+    origin: list
+    source: str
+    meta: dict = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        # Structural consistency only; geometry (planarity, simplicity) is the core's job.
+        src = self.source
+        self.vertices = np.asarray(self.vertices, dtype=np.float64).reshape(-1, 3)
+        self.faces = [np.asarray(f, dtype=np.int64).ravel() for f in self.faces]
+        nf, nv = len(self.faces), len(self.vertices)
+        if nf == 0:
+            raise parse_error(src, None, "the file defines no polygons")
+        self.surface = np.asarray(self.surface, dtype=np.int64).ravel()
+        self.obstruction = np.asarray(self.obstruction, dtype=bool).ravel()
+        self.names = [str(n) for n in self.names]
+        self.origin = [str(o) for o in self.origin]
+        if self.surface.shape != (nf,) or self.obstruction.shape != (nf,) or len(self.origin) != nf:
+            raise ValueError(f"{src}: internal reader error: per-polygon arrays do not match {nf} polygons")
+        if len(set(self.names)) != len(self.names):
+            raise ValueError(f"{src}: internal reader error: surface names are not unique")
+        if nf and (self.surface.min() < 0 or self.surface.max() >= len(self.names)):
+            raise ValueError(f"{src}: internal reader error: surface index out of range")
+        bad = np.flatnonzero(~np.isfinite(self.vertices).all(axis=1))
+        if bad.size:
+            raise parse_error(src, f"vertex {bad[0] + 1}", "NaN or infinite coordinate")
+        for k, f in enumerate(self.faces):
+            if f.size < 3:
+                raise parse_error(src, self.origin[k], f"a polygon needs at least 3 vertices, this one has {f.size}")
+            if f.min() < 0 or f.max() >= nv:
+                raise parse_error(src, self.origin[k], f"polygon refers to vertex {int(f.max()) + 1}, "
+                                                       f"but only {nv} vertices are defined")
+        if self.emissivity is not None:
+            self.emissivity = np.asarray(self.emissivity, dtype=np.float64).ravel()
+            if self.emissivity.shape != (len(self.names),):
+                raise ValueError(f"{src}: internal reader error: emissivity has the wrong length")
+
+    @property
+    def polygons(self) -> list[np.ndarray]:
+        """Each polygon as an (n, 3) array of coordinates."""
+        return [self.vertices[f] for f in self.faces]
+
+    def __repr__(self) -> str:
+        return (f"SceneData({self.source!r}: {len(self.faces)} polygons, {len(self.names)} surfaces, "
+                f"{int(self.obstruction.sum())} obstruction-only)")

@@ -1,0 +1,479 @@
+"""Writers for form-factor results: .npz, .csv, View3D text, EnergyPlus IDF, VTU.
+
+All low-level writers take plain data: ``matrix`` is a scipy.sparse array or a dense
+ndarray with F[i, j] = fraction leaving row i that reaches column j (row = source).
+Files are written to a temporary name and renamed, so a killed run never leaves a
+half-written output under the final name.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import csv
+import json
+import os
+import tempfile
+
+import numpy as np
+import scipy.sparse as sp
+
+#: Largest matrix written as a dense text table (CSV, View3D text) unless asked otherwise.
+MAX_DENSE_ROWS = 20000
+
+NPZ_FORMAT = "nusselt-form-factors"
+NPZ_VERSION = 1
+
+
+@contextlib.contextmanager
+def _atomic(path: str, mode: str = "w"):
+    """Open a temporary file next to ``path``; rename it to ``path`` on success."""
+    path = os.fspath(path)
+    d = os.path.dirname(os.path.abspath(path))
+    fd, tmp = tempfile.mkstemp(prefix=".nusselt-", suffix=".tmp", dir=d)
+    try:
+        with os.fdopen(fd, mode, **({} if "b" in mode else {"encoding": "utf-8", "newline": ""})) as fh:
+            yield fh
+        os.replace(tmp, path)
+    except BaseException:
+        with contextlib.suppress(OSError):
+            os.unlink(tmp)
+        raise
+
+
+def _square(matrix, what: str = "matrix"):
+    shape = matrix.shape
+    if len(shape) != 2 or shape[0] != shape[1]:
+        raise ValueError(f"{what} must be square, got shape {shape}")
+    return shape[0]
+
+
+def _csr(matrix) -> sp.csr_array:
+    if sp.issparse(matrix):
+        return sp.csr_array(matrix)
+    return sp.csr_array(np.asarray(matrix, dtype=np.float64))
+
+
+def _names(names, n: int) -> list[str]:
+    names = [str(s) for s in names]
+    if len(names) != n:
+        raise ValueError(f"{len(names)} names for {n} rows")
+    return names
+
+
+def _areas(areas, n: int) -> np.ndarray:
+    a = np.asarray(areas, dtype=np.float64).ravel()
+    if a.shape != (n,):
+        raise ValueError(f"{a.size} areas for {n} rows")
+    return a
+
+
+def _dense_rows(matrix, n: int, block: int = 256):
+    """Rows of the matrix as dense float arrays, a block at a time (bounded memory)."""
+    if sp.issparse(matrix):
+        m = sp.csr_array(matrix)
+        for s in range(0, n, block):
+            for r in m[s:s + block].toarray():
+                yield r
+    else:
+        m = np.asarray(matrix, dtype=np.float64)
+        for r in m:
+            yield r
+
+
+def _check_size(path: str, n: int, max_rows: int | None, kind: str) -> None:
+    if max_rows is not None and n > max_rows:
+        gb = n * n * 10 / 1e9
+        raise ValueError(f"{path}: a dense {kind} of {n} x {n} values (about {gb:.3g} GB of text) is too large "
+                         f"(limit {max_rows} rows); write .npz instead (sparse, read back with "
+                         "nusselt.io.load_npz), or aggregate to surfaces")
+
+
+# --- npz ----------------------------------------------------------------------------------
+
+def write_npz(path, matrix, areas, names, **extra_arrays) -> None:
+    """Store the form factors as an uncompressed ``.npz``.
+
+    Keys: ``format``, ``version``, ``shape``, ``indptr``, ``indices``, ``data`` (the CSR
+    parts of F), ``areas``, ``names`` and every extra array under its own name. A sparse
+    extra (e.g. ``std_err``) is stored as ``<name>.indptr`` / ``.indices`` / ``.data`` /
+    ``.shape``; a dict or string extra as JSON text. Read it back with :func:`load_npz`.
+    """
+    path = os.fspath(path)
+    n = _square(matrix)
+    m = _csr(matrix)
+    m.sum_duplicates()
+    m.sort_indices()
+    arrays = {
+        "format": np.array(NPZ_FORMAT),
+        "version": np.array(NPZ_VERSION),
+        "shape": np.array(m.shape, dtype=np.int64),
+        "indptr": m.indptr.astype(np.int64),
+        "indices": m.indices.astype(np.int64),
+        "data": m.data.astype(np.float64),
+        "areas": _areas(areas, n),
+        "names": np.array(_names(names, n), dtype=str),
+    }
+    for key, val in extra_arrays.items():
+        if key in arrays or "." in key:
+            raise ValueError(f"extra array name {key!r} is reserved or contains '.'")
+        if val is None:
+            continue
+        if sp.issparse(val):
+            e = sp.csr_array(val)
+            arrays[f"{key}.shape"] = np.array(e.shape, dtype=np.int64)
+            arrays[f"{key}.indptr"] = e.indptr.astype(np.int64)
+            arrays[f"{key}.indices"] = e.indices.astype(np.int64)
+            arrays[f"{key}.data"] = e.data
+        elif isinstance(val, dict):
+            arrays[f"{key}.json"] = np.array(json.dumps(val, default=str))
+        else:
+            a = np.asarray(val)
+            if a.dtype == object:
+                a = np.array([str(x) for x in a.ravel()], dtype=str).reshape(a.shape)
+            arrays[key] = a
+    with _atomic(path, "wb") as fh:
+        np.savez(fh, **arrays)
+
+
+def load_npz(path) -> dict:
+    """Load a result written by :func:`write_npz` (``nusselt matrix ... -o out.npz``).
+
+    >>> r = nusselt.io.load_npz("out.npz")
+    >>> F = r["matrix"]            # scipy.sparse.csr_array, F[i, j], row = source
+    >>> r["areas"], r["names"]     # ndarray, list of str
+
+    Extra arrays come back under their names (sparse ones as csr_array, JSON ones as dicts).
+    """
+    path = os.fspath(path)
+    from .scenedata import check_readable, parse_error
+
+    check_readable(path)
+    try:
+        with np.load(path, allow_pickle=False) as z:
+            files = {k: z[k] for k in z.files}
+    except Exception as e:
+        raise parse_error(path, None, f"not a readable .npz file ({type(e).__name__}: {e})") from None
+    if "format" not in files or str(files["format"]) != NPZ_FORMAT:
+        raise parse_error(path, None, "not a nusselt form-factor file (no 'format' marker)")
+    try:
+        shape = tuple(int(x) for x in files.pop("shape"))
+        matrix = sp.csr_array((files.pop("data"), files.pop("indices"), files.pop("indptr")), shape=shape)
+    except Exception as e:
+        raise parse_error(path, None, f"damaged matrix ({type(e).__name__}: {e})") from None
+    out = {"matrix": matrix, "areas": files.pop("areas"), "names": [str(s) for s in files.pop("names")]}
+    files.pop("format")
+    out["version"] = int(files.pop("version"))
+    groups: dict[str, dict] = {}
+    for key, val in files.items():
+        if "." in key:
+            base, part = key.rsplit(".", 1)
+            groups.setdefault(base, {})[part] = val
+        else:
+            out[key] = val
+    for base, parts in groups.items():
+        if "json" in parts:
+            out[base] = json.loads(str(parts["json"]))
+        else:
+            out[base] = sp.csr_array((parts["data"], parts["indices"], parts["indptr"]),
+                                     shape=tuple(int(x) for x in parts["shape"]))
+    return out
+
+
+# --- csv ----------------------------------------------------------------------------------
+
+def write_csv(path, matrix, names, *, precision: int | None = None, max_rows: int | None = MAX_DENSE_ROWS) -> None:
+    """Dense table: a header row ``from \\ to, name1, name2, ...`` and one row per source
+    starting with its name. Values are written exactly (shortest round-trip form) unless
+    ``precision`` (significant digits) is given. Refuses more than ``max_rows`` rows."""
+    path = os.fspath(path)
+    n = _square(matrix)
+    names = _names(names, n)
+    _check_size(path, n, max_rows, "CSV table")
+    fmt = repr if precision is None else (lambda x, p=int(precision): f"{x:.{p}g}")
+    with _atomic(path, "w") as fh:
+        w = csv.writer(fh, lineterminator="\n")
+        w.writerow(["from \\ to"] + names)
+        for name, row in zip(names, _dense_rows(matrix, n)):
+            w.writerow([name] + list(map(fmt, row.tolist())))
+
+
+# --- View3D -------------------------------------------------------------------------------
+
+def write_view3d(path, matrix, areas, emissivity=None, encl: int = 0, precision: int | None = 6, *,
+                 emit: int = 0, max_rows: int | None = MAX_DENSE_ROWS) -> None:
+    """View3D 3.2 text output (``out=0``) layout::
+
+        View3D 3.2 0 <encl> <emit> <N>      (padded to 30 characters, as View3D does)
+        <N areas, %g>
+        <N rows of F, %.6f>
+        <N emissivities, %.3f>
+
+    ``precision=6`` reproduces View3D's digits; ``precision=None`` writes every number in
+    its shortest exact (round-trip) form; another integer sets the decimals of F.
+    ``emissivity=None`` writes 1.000 (unknown: black). ``emit`` is the header flag saying
+    the matrix is Hottel's script-F (0: plain F, which is what nusselt computes).
+    """
+    path = os.fspath(path)
+    n = _square(matrix)
+    a = _areas(areas, n)
+    _check_size(path, n, max_rows, "View3D table")
+    e = np.ones(n) if emissivity is None else np.asarray(emissivity, dtype=np.float64).ravel()
+    if e.shape != (n,):
+        raise ValueError(f"{e.size} emissivities for {n} rows")
+    e = np.where(np.isfinite(e), e, 1.0)
+    if precision is None:
+        fa = ff = fe = repr
+    else:
+        p = int(precision)
+        fa, ff, fe = (lambda x: f"{x:g}"), (lambda x: f"{x:.{p}f}"), (lambda x: f"{x:.3f}")
+    header = f"View3D 3.2 0 {int(bool(encl))} {int(bool(emit))} {n}".ljust(30)
+    with _atomic(path, "w") as fh:
+        fh.write(header + "\n")
+        fh.write(" ".join(map(fa, a.tolist())) + "\n")
+        for row in _dense_rows(matrix, n):
+            fh.write(" ".join(map(ff, row.tolist())) + "\n")
+        fh.write(" ".join(map(fe, e.tolist())) + "\n")
+
+
+# --- EnergyPlus ---------------------------------------------------------------------------
+
+ENERGYPLUS_OBJECT = "ZoneProperty:UserViewFactors:BySurfaceName"
+
+
+def write_energyplus(path, matrix, names, zone_name: str, *, all_pairs: bool = False) -> None:
+    """EnergyPlus ``ZoneProperty:UserViewFactors:BySurfaceName`` object (IDF text).
+
+    Fields (EnergyPlus Input Output Reference / Energy+.idd, 22.1 and later):
+    ``Zone or ZoneList or Space or SpaceList Name``, then repeated triplets
+    ``From Surface <i>``, ``To Surface <i>``, ``View Factor <i>`` (the view factor from the
+    "from" surface to the "to" surface, at most 1.0). Omitted pairs count as zero, so only
+    nonzero entries are written unless ``all_pairs``. ``names`` must be the EnergyPlus
+    surface names of the zone.
+    """
+    path = os.fspath(path)
+    n = _square(matrix)
+    names = _names(names, n)
+    zone = str(zone_name).strip()
+    for label in [zone] + names:
+        if not label or any(ch in label for ch in ",;!\n\r"):
+            raise ValueError(f"{path}: {label!r} cannot be an EnergyPlus name (empty, or holds , ; or !)")
+    triplets = []
+    for i, row in enumerate(_dense_rows(matrix, n)):
+        bad = np.flatnonzero((row < -1e-9) | (row > 1 + 1e-9) | ~np.isfinite(row))
+        if bad.size:
+            j = bad[0]
+            raise ValueError(f"{path}: F[{names[i]} -> {names[j]}] = {row[j]!r} is not a view factor in [0, 1]")
+        row = np.clip(row, 0.0, 1.0)
+        cols = range(n) if all_pairs else np.flatnonzero(row)
+        triplets.extend((names[i], names[j], float(row[j])) for j in cols)
+    if not triplets:
+        raise ValueError(f"{path}: every view factor is zero; nothing to write")
+    with _atomic(path, "w") as fh:
+        fh.write(f"{ENERGYPLUS_OBJECT},\n")
+        fh.write(f"    {zone + ',':<30} !- Zone or ZoneList or Space or SpaceList Name\n")
+        last = len(triplets)
+        for k, (a, b, f) in enumerate(triplets, start=1):
+            end = ";" if k == last else ","
+            fh.write(f"    {a + ',':<30} !- From Surface {k}\n")
+            fh.write(f"    {b + ',':<30} !- To Surface {k}\n")
+            fh.write(f"    {repr(f) + end:<30} !- View Factor {k}\n")
+
+
+# --- VTU ----------------------------------------------------------------------------------
+
+def write_vtu(path, polygons_vertices, faces, cell_data: dict | None = None) -> None:
+    """Polygons with per-cell data as a VTK XML unstructured grid (opens in ParaView).
+
+    Consecutive faces with the same vertex count form one cell block (``triangle``,
+    ``quad`` or ``polygon``), so cells keep their order: cell k of the file is ``faces[k]``.
+    ``cell_data`` maps a name to an (F,) or (F, k) array.
+    """
+    import meshio
+
+    path = os.fspath(path)
+    pts = np.asarray(polygons_vertices, dtype=np.float64).reshape(-1, 3)
+    faces = [np.asarray(f, dtype=np.int64).ravel() for f in faces]
+    nf = len(faces)
+    if nf == 0:
+        raise ValueError("no faces to write")
+    for k, f in enumerate(faces):
+        if f.size < 3 or f.min() < 0 or f.max() >= len(pts):
+            raise ValueError(f"face {k} is not a polygon over the {len(pts)} vertices")
+    data = {}
+    for name, arr in (cell_data or {}).items():
+        a = np.asarray(arr)
+        if a.shape[:1] != (nf,):
+            raise ValueError(f"cell data {name!r} has {a.shape[0] if a.ndim else 0} entries for {nf} faces")
+        if a.dtype == bool:
+            a = a.astype(np.int8)
+        data[str(name)] = a
+    sizes = np.array([f.size for f in faces])
+    starts = np.flatnonzero(np.r_[True, sizes[1:] != sizes[:-1]])
+    ends = np.r_[starts[1:], nf]
+    cells, block_data = [], {k: [] for k in data}
+    for s, e in zip(starts, ends):
+        m = sizes[s]
+        ctype = {3: "triangle", 4: "quad"}.get(int(m), "polygon")
+        cells.append(meshio.CellBlock(ctype, np.array(faces[s:e])))
+        for k, a in data.items():
+            block_data[k].append(a[s:e])
+    mesh = meshio.Mesh(pts, cells, cell_data=block_data)
+    d = os.path.dirname(os.path.abspath(path))
+    fd, tmp = tempfile.mkstemp(prefix=".nusselt-", suffix=".vtu", dir=d)
+    os.close(fd)
+    try:
+        meshio.write(tmp, mesh, file_format="vtu")
+        os.replace(tmp, path)
+    except BaseException:
+        with contextlib.suppress(OSError):
+            os.unlink(tmp)
+        raise
+
+
+# --- dispatch -----------------------------------------------------------------------------
+
+_EXT_FORMAT = {".npz": "npz", ".csv": "csv", ".txt": "view3d", ".view3d": "view3d", ".vf": "view3d",
+               ".idf": "energyplus", ".vtu": "vtu"}
+FORMATS = ("npz", "csv", "view3d", "energyplus", "vtu")
+
+
+def result_format(path, format: str | None = None) -> str:
+    """The output format for a path (by extension) or an explicit ``format`` name."""
+    if format is not None:
+        f = format.lower()
+        f = {"txt": "view3d", "idf": "energyplus", "eplus": "energyplus"}.get(f, f)
+        if f not in FORMATS:
+            raise ValueError(f"unknown output format {format!r}; choose one of {', '.join(FORMATS)}")
+        return f
+    ext = os.path.splitext(os.fspath(path))[1].lower()
+    if ext not in _EXT_FORMAT:
+        raise ValueError(f"{path}: cannot tell the output format from the extension {ext or '(none)'}; "
+                         "use .npz, .csv, .txt (View3D), .idf (EnergyPlus) or .vtu")
+    return _EXT_FORMAT[ext]
+
+
+def _get(result, key, default=None):
+    if isinstance(result, dict):
+        return result.get(key, default)
+    return getattr(result, key, default)
+
+
+def write_result(path, result, *, format: str | None = None, scene=None, to_surface: str | None = None,
+                 zone_name: str | None = None, precision: int | None = None) -> None:
+    """Write a form-factor result in the format given by ``format`` or the extension:
+    ``.npz`` (sparse, everything), ``.csv``, ``.txt`` (View3D text output), ``.idf``
+    (EnergyPlus), ``.vtu`` (the scene's polygons with per-cell data; needs ``scene``).
+
+    ``result`` is a :class:`nusselt.FormFactors` (or any object/dict with ``matrix``,
+    ``areas``, ``names`` and optionally ``faces``, ``surface``, ``surface_names``,
+    ``std_err``, ``lost``, ``method``, ``info``, ``by_surface()``).
+
+    * ``.idf`` is always per named surface (patch results are aggregated with the
+      form-factor algebra); ``zone_name`` defaults to the scene file's stem.
+    * ``.txt`` is per surface when the scene came from a View3D file (View3D's own output
+      is per surface), else as given; emissivities and ``encl`` come from the scene.
+    * ``.vtu``: cell data ``area``, ``surface``, ``obstruction``, ``row`` (row of the
+      result, -1 for none), ``row_sum``, and ``F_to_<name>`` when ``to_surface`` is given.
+    * ``precision``: CSV significant digits / View3D decimals (default: exact for CSV,
+      6 decimals for View3D as View3D writes).
+    """
+    path = os.fspath(path)
+    fmt = result_format(path, format)
+    matrix, areas, names = _get(result, "matrix"), _get(result, "areas"), _get(result, "names")
+    if matrix is None or areas is None or names is None:
+        raise ValueError("result needs matrix, areas and names")
+    meta = getattr(scene, "meta", None) or {}
+    patch_level = _get(result, "surface") is not None
+
+    if fmt == "npz":
+        extra = {}
+        for key in ("faces", "surface", "lost", "std_err"):
+            v = _get(result, key)
+            if v is not None:
+                extra[key] = v
+        sn = _get(result, "surface_names")
+        if sn is not None:
+            extra["surface_names"] = np.array([str(s) for s in sn], dtype=str)
+        if _get(result, "method") is not None:
+            extra["method"] = np.array(str(_get(result, "method")))
+        info = _get(result, "info")
+        if info:
+            extra["info"] = dict(info)
+        if scene is not None and getattr(scene, "source", None):
+            extra["scene"] = np.array(str(scene.source))
+        write_npz(path, matrix, areas, names, **extra)
+    elif fmt == "csv":
+        write_csv(path, matrix, names, precision=precision)
+    elif fmt == "view3d":
+        if patch_level and meta.get("format") == "view3d" and hasattr(result, "by_surface"):
+            result = result.by_surface()
+            matrix, areas, names, patch_level = result.matrix, result.areas, result.names, False
+        em = _row_emissivity(result, scene, patch_level)
+        write_view3d(path, matrix, areas, emissivity=em, encl=int(meta.get("encl", 0) or 0),
+                     precision=6 if precision is None else precision)
+    elif fmt == "energyplus":
+        if patch_level:
+            if not hasattr(result, "by_surface"):
+                raise ValueError(f"{path}: EnergyPlus needs surface names; aggregate the result to surfaces first")
+            result = result.by_surface()
+            matrix, names = result.matrix, result.names
+        if zone_name is None:
+            src = getattr(scene, "source", None)
+            zone_name = os.path.splitext(os.path.basename(src))[0] if src else "Zone 1"
+        write_energyplus(path, matrix, names, zone_name)
+    else:
+        if scene is None:
+            raise ValueError(f"{path}: VTU output needs the scene geometry (pass scene=)")
+        _write_result_vtu(path, result, scene, to_surface, patch_level)
+
+
+def _row_emissivity(result, scene, patch_level):
+    em = getattr(scene, "emissivity", None) if scene is not None else None
+    faces = _get(result, "faces")
+    if em is None or faces is None:
+        return None
+    em = np.asarray(em, dtype=np.float64)
+    faces = np.asarray(faces, dtype=np.int64)
+    sidx = np.asarray(scene.surface)[faces] if patch_level else faces
+    return em[sidx]
+
+
+def _write_result_vtu(path, result, scene, to_surface, patch_level):
+    matrix = _get(result, "matrix")
+    n = _square(matrix)
+    m = _csr(matrix)
+    faces_of_rows = np.asarray(_get(result, "faces"), dtype=np.int64)
+    nface = len(scene.faces)
+    surf = np.asarray(scene.surface, dtype=np.int64)
+    if patch_level:
+        row_of_face = np.full(nface, -1, dtype=np.int64)
+        row_of_face[faces_of_rows] = np.arange(n)
+        col_surface = np.asarray(_get(result, "surface"), dtype=np.int64)
+        col_names = list(_get(result, "surface_names") or scene.surface_names)
+    else:
+        row_of_surface = {int(s): r for r, s in enumerate(faces_of_rows)}
+        row_of_face = np.array([row_of_surface.get(int(s), -1) for s in surf], dtype=np.int64)
+        col_surface = faces_of_rows
+        col_names = list(scene.surface_names)
+    has_row = row_of_face >= 0
+    sums = np.asarray(m.sum(axis=1)).ravel()
+    row_sum = np.full(nface, np.nan)
+    row_sum[has_row] = sums[row_of_face[has_row]]
+    data = {
+        "area": np.asarray(scene.areas, dtype=np.float64),
+        "surface": surf,
+        "obstruction": np.asarray(scene.obstruction, dtype=np.int8),
+        "row": row_of_face,
+        "row_sum": row_sum,
+    }
+    if to_surface is not None:
+        if to_surface not in col_names:
+            shown = ", ".join(col_names[:10]) + (" ..." if len(col_names) > 10 else "")
+            raise ValueError(f"{path}: no surface named {to_surface!r} (surfaces: {shown})")
+        t = col_names.index(to_surface)
+        indicator = (col_surface == t).astype(np.float64)
+        f_to = m @ indicator
+        col = np.full(nface, np.nan)
+        col[has_row] = f_to[row_of_face[has_row]]
+        data[f"F_to_{to_surface}"] = col
+    write_vtu(path, scene.vertices, scene.faces, data)
