@@ -16,7 +16,10 @@ Triangles, quads and polygon cells are kept as they are. Named surfaces, first m
 
 from __future__ import annotations
 
+import contextlib
+import io
 import os
+import warnings
 
 import numpy as np
 
@@ -86,7 +89,11 @@ def read_mesh(path: str, format: str | None = None) -> SceneData:
     import meshio
 
     try:
-        mesh = meshio.read(path, file_format=format)
+        # meshio prints and warns on some inputs (e.g. ASCII STL); keep our output clean.
+        with warnings.catch_warnings(), np.errstate(all="ignore"), \
+                contextlib.redirect_stdout(io.StringIO()):
+            warnings.simplefilter("ignore")
+            mesh = meshio.read(path, file_format=format)
     except (OSError, MemoryError):
         raise
     except meshio.ReadError as e:

@@ -361,7 +361,7 @@ def _cut_holes(base: _Surface, holes: list[_Surface], err) -> list[np.ndarray]:
                              "(View3D surfaces must be convex)")
     h2s = []
     for h in holes:
-        what = f"{_KIND_WORD[h.kind]} {h.number}"
+        what = f"sub-surface {h.number}" if h.kind == "S" else f"{_KIND_WORD[h.kind]} {h.number}"
         dist = np.max(np.abs(frame.height(h.coords)))
         if dist > 1e-5 * size:
             raise err(h.line, f"{what} is not in the plane of its base surface {base.number} "
@@ -387,7 +387,8 @@ def _cut_holes(base: _Surface, holes: list[_Surface], err) -> list[np.ndarray]:
         for (g, q2) in h2s:
             ov = _planar.convex_intersection_area(q, q2)
             if ov > 1e-9 * min(abs(a), _planar.signed_area_2d(q2)):
-                raise err(h.line, f"{what} overlaps {_KIND_WORD[g.kind]} {g.number} on the same base {base.number}")
+                other = f"sub-surface {g.number}" if g.kind == "S" else f"{_KIND_WORD[g.kind]} {g.number}"
+                raise err(h.line, f"{what} overlaps {other} on the same base {base.number}")
         h2s.append((h, q))
     pieces = _planar.subtract_convex_holes(b2, [q for _, q in h2s], size)
     return [frame.to3d(p) for p in pieces]
