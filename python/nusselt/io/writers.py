@@ -262,7 +262,7 @@ def write_energyplus(path, matrix, names, zone_name: str, *, all_pairs: bool = F
         bad = np.flatnonzero((row < -1e-9) | (row > 1 + 1e-9) | ~np.isfinite(row))
         if bad.size:
             j = bad[0]
-            raise ValueError(f"{path}: F[{names[i]} -> {names[j]}] = {row[j]!r} is not a view factor in [0, 1]")
+            raise ValueError(f"{path}: F[{names[i]} -> {names[j]}] = {float(row[j])!r} is not a view factor in [0, 1]")
         row = np.clip(row, 0.0, 1.0)
         cols = range(n) if all_pairs else np.flatnonzero(row)
         triplets.extend((names[i], names[j], float(row[j])) for j in cols)
