@@ -7,6 +7,7 @@ pub mod error;
 pub mod geometry;
 pub mod hemisphere;
 pub mod matrix;
+pub mod quadrature;
 pub mod sampling;
 pub mod visibility;
 
