@@ -9,6 +9,7 @@ pub mod hemisphere;
 pub mod matrix;
 pub mod quadrature;
 pub mod sampling;
+pub mod special;
 pub mod visibility;
 
 pub use error::Error;
