@@ -3,6 +3,7 @@
 //! Pure Rust, no Python and no file I/O: flat arrays and [`geometry::Polygon`]s in, numbers
 //! and sparse rows out. The Python package `nusselt` wraps this crate.
 
+pub mod analytic;
 pub mod error;
 pub mod geometry;
 pub mod hemisphere;
