@@ -4,6 +4,7 @@
 //! and sparse rows out. The Python package `nusselt` wraps this crate.
 
 pub mod analytic;
+pub mod contour;
 pub mod error;
 pub mod geometry;
 pub mod hemisphere;

@@ -172,7 +172,8 @@ fn jacobi10_rule(n: usize) -> Vec<(f64, f64)> {
 ///
 /// * Convex quadrilateral: order x order tensor Gauss-Legendre through the bilinear map
 ///   x(u,v) with Jacobian n·(x_u × x_v) (linear in u and v for a planar quad). Exact for
-///   polynomials of degree 2·order - 1 on parallelograms, 2·order - 2 on general convex quads.
+///   polynomials of degree 2·order - 1 on parallelograms, 2·order - 2 on general convex quads
+///   (order 1 is the area centroid with the area as weight: exact for degree 1).
 /// * Triangle: collapsed (Duffy / Stroud conical product) map x = p0 + u e1 + (1 - u) v e2,
 ///   Jacobian 2A(1 - u), with Gauss-Jacobi(1,0) in u and Gauss-Legendre in v: order² points,
 ///   all inside, all weights positive, exact for total degree 2·order - 1.
@@ -218,6 +219,15 @@ impl AreaRule {
     }
 
     fn push_quad(&mut self, v: &[Vec3], n: Vec3, order: usize) {
+        if order == 1 {
+            // The bilinear map's centre is the vertex mean, not the area centroid, so the
+            // one-point tensor rule would be exact for constants only: use the centroid.
+            let (a1, a2) = ((v[1] - v[0]).cross(v[2] - v[0]).dot(n), (v[2] - v[0]).cross(v[3] - v[0]).dot(n));
+            let c = ((v[0] + v[1] + v[2]) * a1 + (v[0] + v[2] + v[3]) * a2) / (3.0 * (a1 + a2));
+            self.points.push(c);
+            self.weights.push(0.5 * (a1 + a2));
+            return;
+        }
         let g = gauss_legendre(order);
         self.points.reserve(order * order);
         self.weights.reserve(order * order);
@@ -358,7 +368,7 @@ pub fn far_field_order(rel_sep: f64, rel_tol: f64) -> Option<usize> {
 const FLOOR: f64 = 1e-15;
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::geometry::tangent_frame;
 
@@ -473,7 +483,7 @@ mod tests {
             // 2 (general convex quads and triangulated polygons: same as triangles, d = 1)
             (vec![[0., 0.], [1.3, 0.2], [0.4, 0.9]], 1),
             (vec![[0., 0.], [2., 0.], [2.5, 1.], [0.5, 1.]], 1),
-            (vec![[0., 0.], [2., 0.3], [1.7, 1.4], [-0.2, 0.8]], 2),
+            (vec![[0., 0.], [2., 0.3], [1.7, 1.4], [-0.2, 0.8]], 2), // (order 1: degree 1, below)
             (vec![[0., 0.], [2., 0.], [1., 0.4], [0.9, 2.]], 1), // concave quad: triangulated
             (vec![[0., 0.], [2., 0.], [2., 1.], [1., 1.], [1., 2.], [0., 2.]], 1), // L shape
             (vec![[0., 0.], [1., -0.3], [1.8, 0.4], [1.2, 1.3], [0.1, 1.0]], 1),
@@ -486,7 +496,7 @@ mod tests {
                 assert!((wsum - p.area()).abs() <= 1e-13 * p.area(), "weights sum {wsum} vs area {}", p.area());
                 assert!(r.weights.iter().all(|&w| w > 0.0));
                 assert!(r.points.iter().all(|x| ((*x - p.centroid()).dot(p.normal())).abs() < 1e-12 * (1.0 + x.length())));
-                let deg = 2 * order as i32 - *defect as i32;
+                let deg = if order == 1 { 1 } else { 2 * order as i32 - *defect as i32 };
                 for a in 0..=deg {
                     for b in 0..=deg - a {
                         let exact = green_moment(&p, a, b);
@@ -497,6 +507,138 @@ mod tests {
                 }
             }
         }
+    }
+
+
+    /// A random outline in the plane (triangles, convex and concave quads, convex 5-6-gons),
+    /// including slivers; not normalised.
+    pub(crate) fn random_outline(rng: &mut Rng) -> Vec<[f64; 2]> {
+        let kind = rng.unit();
+        loop {
+            let v: Vec<[f64; 2]> = if kind < 0.4 {
+                (0..3).map(|_| [rng.range(-1., 1.), rng.range(-1., 1.)]).collect()
+            } else if kind < 0.85 {
+                // star-shaped quad about the origin: convex or concave
+                let mut ang: Vec<f64> = (0..4).map(|_| rng.range(0., 2. * PI)).collect();
+                ang.sort_by(f64::total_cmp);
+                let stretch = rng.range(0.05, 1.0);
+                ang.iter().map(|t| { let r = rng.range(0.3, 1.0); [r * t.cos(), stretch * r * t.sin()] }).collect()
+            } else {
+                let k = 5 + (rng.unit() * 2.0) as usize;
+                let mut ang: Vec<f64> = (0..k).map(|_| rng.range(0., 2. * PI)).collect();
+                ang.sort_by(f64::total_cmp);
+                let stretch = rng.range(0.1, 1.0);
+                ang.iter().map(|t| [t.cos(), stretch * t.sin()]).collect()
+            };
+            let a2 = (0..v.len()).map(|i| { let (p, q) = (v[i], v[(i + 1) % v.len()]); p[0] * q[1] - p[1] * q[0] }).sum::<f64>();
+            if a2.abs() > 1e-3 {
+                return if a2 > 0.0 { v } else { v.into_iter().rev().collect() };
+            }
+        }
+    }
+
+    /// Polygon with the given outline, front normal n, bounding radius `radius`, centroid c.
+    pub(crate) fn make_polygon(v2: &[[f64; 2]], n: Vec3, radius: f64, c: Vec3) -> Option<Polygon> {
+        let (t, s) = tangent_frame(n);
+        let p = Polygon::new(v2.iter().map(|q| t * q[0] + s * q[1]).collect()).ok()?;
+        let k = radius / p.radius();
+        Polygon::new(p.vertices().iter().map(|x| c + (*x - p.centroid()) * k).collect()).ok()
+    }
+
+    /// A random pair at relative separation `sep` in which each polygon lies in the other's
+    /// closed front half-space. Half of the pairs have b resting on a's plane (touching it
+    /// at a vertex or edge), a third of the rest are perpendicular or opposed-parallel.
+    pub(crate) fn random_far_pair(rng: &mut Rng, sep: f64) -> (Polygon, Polygon) {
+        loop {
+            let Some(a) = make_polygon(&random_outline(rng), Vec3::Z, 1.0, Vec3::ZERO) else { continue };
+            let rb = (rng.range(-1., 1.) * 20f64.ln()).exp();
+            let mode = rng.unit();
+            let nb = if mode < 0.2 {
+                let t = rng.range(0., 2. * PI);
+                Vec3::new(t.cos(), t.sin(), 0.0)
+            } else if mode < 0.3 {
+                (Vec3::new(rng.range(-0.05, 0.05), rng.range(-0.05, 0.05), -1.0)).normalize()
+            } else {
+                rng.dir()
+            };
+            let Some(b0) = make_polygon(&random_outline(rng), nb, rb, Vec3::ZERO) else { continue };
+            let dist = sep * (1.0 + rb);
+            let zmin = b0.vertices().iter().map(|v| v.z).fold(f64::INFINITY, f64::min);
+            let dz = if rng.unit() < 0.5 {
+                (-zmin / dist).min(1.0) // resting on a's plane
+            } else {
+                rng.range((-zmin / dist).clamp(0.0, 1.0), 1.0)
+            };
+            let phi = rng.range(0., 2. * PI);
+            let h = (1.0 - dz * dz).max(0.0).sqrt();
+            let c = Vec3::new(h * phi.cos(), h * phi.sin(), dz) * dist;
+            let Some(b) = Polygon::new(b0.vertices().iter().map(|v| *v + c).collect()).ok() else { continue };
+            let tol = 1e-12;
+            let b_front = b.vertices().iter().all(|v| v.z >= -tol);
+            let a_front = a.vertices().iter().all(|v| (*v - b.centroid()).dot(b.normal()) >= -tol);
+            let b_strict = b.vertices().iter().any(|v| v.z > 1e-6);
+            let a_strict = a.vertices().iter().any(|v| (*v - b.centroid()).dot(b.normal()) > 1e-6);
+            if b_front && a_front && b_strict && a_strict {
+                return (a, b);
+            }
+        }
+    }
+
+    fn aff(a: &Polygon, b: &Polygon, n: usize) -> f64 {
+        area_area(&AreaRule::new(a, n), a.normal(), &AreaRule::new(b, n), b.normal())
+    }
+
+    /// Reference double area integral with its own loop and Neumaier-compensated summation
+    /// (so that millions of terms add without a 1e-13 rounding floor).
+    pub(crate) fn reference_aff(a: &Polygon, b: &Polygon, n: usize) -> f64 {
+        let (ra, rb) = (AreaRule::new(a, n), AreaRule::new(b, n));
+        let (na, nb) = (a.normal(), b.normal());
+        let (mut sum, mut comp) = (0.0f64, 0.0f64);
+        for (x, wx) in ra.points.iter().zip(&ra.weights) {
+            for (y, wy) in rb.points.iter().zip(&rb.weights) {
+                let d = *y - *x;
+                let r2 = d.length_squared();
+                let term = wx * wy * na.dot(d).max(0.0) * (-nb.dot(d)).max(0.0) / (PI * r2 * r2);
+                let t = sum + term;
+                comp += if sum.abs() >= term.abs() { (sum - t) + term } else { (term - t) + sum };
+                sum = t;
+            }
+        }
+        sum + comp
+    }
+
+    /// Calibration of [`far_field_order`]: worst relative error of orders 1..=MAX_FAR_ORDER
+    /// over random pairs per separation, against a compensated order-40 (s < 2) or order-32
+    /// reference; the difference to the next lower reference order (32 or 24) is added to every
+    /// error, so an unconverged reference can only over-estimate.
+    /// Run: cargo test -p nusselt-core --release --lib calibrate_far_field -- --ignored --nocapture
+    /// (NUSSELT_CAL_SAMPLES pairs per row, default 300).
+    #[test]
+    #[ignore]
+    fn calibrate_far_field() {
+        let seps = [1.05, 1.1, 1.2, 1.3, 1.4, 1.5, 1.75, 2.0, 2.5, 3.0, 4.0, 5.0, 6.0, 8.0, 10.0, 12.0, 16.0, 24.0, 32.0, 48.0, 64.0, 96.0, 128.0, 256.0, 512.0, 1024.0];
+        let samples: usize = std::env::var("NUSSELT_CAL_SAMPLES").ok().and_then(|s| s.parse().ok()).unwrap_or(300);
+        let mut rng = Rng(2024);
+        println!("const FAR_SEPS: &[f64] = &{seps:?};");
+        println!("const FAR_ERRS: &[[f64; MAX_FAR_ORDER]] = &[");
+        for &s in &seps {
+            let (hi, lo) = if s < 2.0 { (40, 32) } else { (32, 24) };
+            let mut worst = [0.0f64; MAX_FAR_ORDER];
+            let mut ref_unc: f64 = 0.0;
+            for _ in 0..samples {
+                let (a, b) = random_far_pair(&mut rng, s);
+                let r = reference_aff(&a, &b, hi);
+                let unc = (r - reference_aff(&a, &b, lo)).abs() / r;
+                ref_unc = ref_unc.max(unc);
+                for n in 1..=MAX_FAR_ORDER {
+                    let e = (aff(&a, &b, n) - r).abs() / r + unc;
+                    worst[n - 1] = worst[n - 1].max(e);
+                }
+            }
+            let row: Vec<String> = worst.iter().map(|e| format!("{:.1e}", e.max(FLOOR))).collect();
+            println!("    [{}], // s = {s}, reference uncertainty {ref_unc:.1e}", row.join(", "));
+        }
+        println!("];");
     }
 
     pub(crate) fn square(x0: f64, y0: f64, s: f64, z: f64, up: bool) -> Polygon {
