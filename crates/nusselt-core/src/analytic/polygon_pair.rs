@@ -585,12 +585,6 @@ mod tests {
 
     #[test]
     fn cube_closure_and_reciprocity() {
-        let faces = [
-            rect(Vec3::ZERO, Vec3::Y, Vec3::X),   // z = 0, inward +z
-            rect(Vec3::Z, Vec3::X, Vec3::Y),      // z = 1, inward -z
-            rect(Vec3::ZERO, Vec3::Z, Vec3::Y),   // x = 0, inward +x... Z x Y = -X: fix below
-        ];
-        let _ = faces;
         // All six inward-facing unit-cube faces.
         let o = Vec3::ZERO;
         let one = Vec3::ONE;
@@ -784,3 +778,4 @@ mod tests {
         assert_eq!(polygon_pair(&a, &c), 0.0);
     }
 }
+
