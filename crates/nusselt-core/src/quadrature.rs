@@ -310,10 +310,12 @@ pub fn area_area(a: &AreaRule, na: Vec3, b: &AreaRule, nb: Vec3) -> f64 {
             bna[l] = na.dot(y);
             bnb[l] = nb.dot(y);
         }
+        // lanes in use, rounded up to a multiple of 4 (the padding lanes carry zero weight)
+        let lanes = ((m + 3) & !3).min(C);
         for (x, &wx) in a.points.iter().zip(&a.weights) {
             let (nax, nbx) = (na.dot(*x), nb.dot(*x));
             let mut s = 0.0;
-            for l in 0..C {
+            for l in 0..lanes {
                 let (dx, dy, dz) = (bx[l] - x.x, by[l] - x.y, bz[l] - x.z);
                 let r2 = dx * dx + dy * dy + dz * dz;
                 let ca = (bna[l] - nax).max(0.0);
