@@ -9,6 +9,8 @@ pub mod error;
 pub mod geometry;
 pub mod hemisphere;
 pub mod matrix;
+pub mod method;
+pub mod obstructed;
 pub mod quadrature;
 pub mod sampling;
 pub mod special;

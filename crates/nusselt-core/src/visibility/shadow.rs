@@ -152,30 +152,9 @@ pub fn point_visible_view_factor(p: Vec3, n: Vec3, receiver: &Polygon, blockers:
         return f64::NAN;
     }
     let n = n.normalize();
-    visible_part(p, n, receiver, blockers).iter().map(|c| lambert_contour(p, n, c)).sum()
+    visible_part(p, n, receiver, blockers).iter().map(|c| crate::analytic::point_contour(p, n, c)).sum()
 }
 
-/// Lambert's formula for a differential area (p, unit n) and a closed contour (algorithms.md
-/// 1.3; Hottel & Sarofim 1967 p. 48; View3D `V1AIpart`), in the robust vector form
-///   F = -(1/2 pi) sum_k gamma_k n . (R_k x R_k+1) / |R_k x R_k+1|,
-///   R_k = v_k - p,  gamma_k = atan2(|R_k x R_k+1|, R_k . R_k+1),
-/// signed so that a contour counter-clockwise about a normal facing p counts positive and a
-/// clockwise one (a hole) negative. The contour must lie in p's front half-space.
-/// (Same convention as `analytic::point_contour`, which this can defer to once it exists.)
-fn lambert_contour(p: Vec3, n: Vec3, contour: &[Vec3]) -> f64 {
-    let m = contour.len();
-    let mut sum = 0.0;
-    for k in 0..m {
-        let a = contour[k] - p;
-        let b = contour[(k + 1) % m] - p;
-        let cr = a.cross(b);
-        let len = cr.length();
-        if len > 0.0 {
-            sum += len.atan2(a.dot(b)) * n.dot(cr) / len;
-        }
-    }
-    -sum / std::f64::consts::TAU
-}
 
 /// Shoelace area of a 2-D contour (positive counter-clockwise).
 fn signed_area(v: &[[f64; 2]]) -> f64 {

@@ -248,7 +248,7 @@ fn f_vis(p: Vec3, n: Vec3, rec: &Polygon, blockers: &[&Polygon]) -> f64 {
 
 /// Unobstructed Lambert F to a polygon's own outline (flipped to face p if needed).
 fn f_plain(p: Vec3, n: Vec3, poly: &Polygon) -> f64 {
-    lambert_contour(p, n, poly.vertices()).abs()
+    crate::analytic::point_contour(p, n, poly.vertices()).abs()
 }
 
 #[test]
