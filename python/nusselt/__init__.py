@@ -6,10 +6,12 @@
 >>> result = nusselt.form_factors(scene)                  # F[i, j], row = source
 """
 
+from . import io
 from ._core import __version__
 from .api import form_factors, point_view_factor, view_factor
 from .methods import METHODS
 from .result import FormFactors
+from .io import load_npz, read_scene
 from .scene import Scene
 
-__all__ = ["Scene", "FormFactors", "METHODS", "form_factors", "view_factor", "point_view_factor", "__version__"]
+__all__ = ["Scene", "FormFactors", "METHODS", "form_factors", "view_factor", "point_view_factor", "load_npz", "read_scene", "io", "__version__"]

@@ -35,21 +35,24 @@ def _obstacles(obstacles) -> list[np.ndarray]:
     return [_polygon(o, f"obstacle {k}") for k, o in enumerate(obstacles)]
 
 
-def view_factor(pi, pj, *, obstacles=None, method: str = "auto", **options) -> float:
+def view_factor(pi, pj, *, obstacles=None, method: str = "auto", return_std: bool = False, **options):
     """F_ij: the fraction of the radiation leaving polygon ``pi`` that reaches polygon ``pj``.
 
     Polygons are (n, 3) arrays, counter-clockwise seen from their front (emitting and
     receiving) side. ``obstacles`` is a list of polygons (opaque from both sides) or a Scene.
     ``method`` is one of :data:`nusselt.METHODS`; its options are keyword arguments.
+    With ``return_std=True`` returns ``(F, standard error)`` (0 for deterministic methods).
     """
     a, b = _polygon(pi, "pi"), _polygon(pj, "pj")
     obs = _obstacles(obstacles)
     _, opts = resolve(method, options, obstructed=bool(obs))
-    return float(_core.view_factor(a, b, obs, method, opts, PLANARITY_TOL))
+    f, s = _core.view_factor(a, b, obs, method, opts, PLANARITY_TOL)
+    return (float(f), float(s)) if return_std else float(f)
 
 
-def point_view_factor(point, normal, pj, *, obstacles=None, method: str = "auto", **options) -> float:
-    """F from a differential area at ``point`` with unit ``normal`` to polygon ``pj``."""
+def point_view_factor(point, normal, pj, *, obstacles=None, method: str = "auto", return_std: bool = False, **options):
+    """F from a differential area at ``point`` with unit ``normal`` to polygon ``pj``
+    (``return_std=True``: ``(F, standard error)``)."""
     p = _vector(point, "point")
     n = _vector(normal, "normal")
     length = np.linalg.norm(n)
@@ -58,7 +61,8 @@ def point_view_factor(point, normal, pj, *, obstacles=None, method: str = "auto"
     b = _polygon(pj, "pj")
     obs = _obstacles(obstacles)
     _, opts = resolve(method, options, obstructed=bool(obs))
-    return float(_core.point_view_factor(p, n / length, b, obs, method, opts, PLANARITY_TOL))
+    f, s = _core.point_view_factor(p, n / length, b, obs, method, opts, PLANARITY_TOL)
+    return (float(f), float(s)) if return_std else float(f)
 
 
 def form_factors(
@@ -130,13 +134,18 @@ def form_factors(
     c = np.concatenate([col_of[b.indices] for b in done]) if done else np.zeros(0, int)
     v = np.concatenate([b.data for b in done]) if done else np.zeros(0)
     std = lost = None
+    sd = np.concatenate([b.std for b in done]) if done else np.zeros(0)
     if kind == "pairs":
         # G is symmetric: mirror the upper triangle, then F = G / A_row.
+        if np.any(sd != 0):
+            std = sp.csr_array(
+                (np.concatenate([sd / areas[r], sd / areas[c]]), (np.concatenate([r, c]), np.concatenate([c, r]))),
+                shape=(nr, nr),
+            )
         r, c, v = np.concatenate([r, c]), np.concatenate([c, r]), np.concatenate([v / areas[r], v / areas[c]])
     else:
-        if done and done[0].std is not None:
-            sd = np.concatenate([b.std for b in done])
-            std = sp.csr_array((sd, (r, c)), shape=(nr, nr))
+        if sd.size and not np.all(np.isnan(sd)):
+            std = sp.csr_array((np.nan_to_num(sd), (r, c)), shape=(nr, nr))
         if done and done[0].lost is not None:
             lost = np.zeros(nr)
             lost[col_of[np.concatenate([b.rows for b in done])]] = np.concatenate([b.lost for b in done])

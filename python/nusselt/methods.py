@@ -24,6 +24,10 @@ class Option:
             if value not in self.choices:
                 raise ValueError(f"method {method!r}: option {name}={value!r} must be one of {self.choices}")
             return value
+        if self.kind is object:  # source: a keyword or a non-negative integer
+            if isinstance(value, str) or (isinstance(value, int) and not isinstance(value, bool) and 0 <= value <= 16):
+                return value
+            raise ValueError(f"method {method!r}: option {name}={value!r} must be {self.doc}")
         if self.kind is bool:
             if not isinstance(value, bool):
                 raise TypeError(f"method {method!r}: option {name} must be True or False, got {value!r}")
@@ -51,30 +55,144 @@ class Method:
     kind: str = "pairs"
 
 
-TOL = Option(float, 1e-10, "relative accuracy target per pair", 1e-15, 0.1)
+TOL = Option(float, 1e-10, "relative accuracy target per unobstructed pair", 1e-15, 0.1)
 NODES = Option(int, 8, "Gauss-Legendre nodes per edge panel", 1, 64)
+SEED = Option(int, 0, "seed of the scrambled low-discrepancy points (results are reproducible)", 0, 2**63)
+SOURCE_AREA = Option(
+    object, 3, "source points on A_i: 'centre', or k for a k x k Gauss rule (normalised weighted sum)"
+)
+SOURCE_ROW = Option(
+    object, "auto", "source points on each patch: 'auto' (by patch size), 'centre', or k for a k x k Gauss rule"
+)
+ROTATE = Option(bool, True, "random rotation about the normal per sample point (aliasing becomes noise)")
 
 METHODS: dict[str, Method] = {
     "auto": Method(
         "auto",
-        "the fastest method that meets the accuracy target `tol` for each pair: Gauss area "
-        "quadrature of an order chosen by separation for distant pairs, the exact closed form "
-        "for close or touching ones",
-        obstructed=False,
-        options={"tol": TOL},
+        "the fastest method that meets the accuracy targets for each pair: for pairs with nothing in "
+        "between, Gauss area quadrature of an order chosen by separation (distant pairs) or the exact "
+        "closed form (close, touching, piercing pairs); for pairs a polygon may block, the exact "
+        "visible region (`clipping`) to `obstructed_tol`",
+        obstructed=True,
+        options={
+            "tol": TOL,
+            "obstructed_tol": Option(float, 1e-8, "absolute accuracy target on F for obstructed pairs", 1e-14, 0.1),
+        },
     ),
     "analytic": Method(
         "analytic",
-        "closed form: Lambert's formula for a point, Narayanaswamy's edge-pair formula "
-        "(with exact limits for touching edges) for two polygons",
+        "closed form: Lambert's formula for a point, Narayanaswamy's edge-pair formula (exact limits "
+        "for touching edges) for two polygons; assumes nothing is in between",
         obstructed=False,
     ),
     "contour": Method(
         "contour",
-        "double contour (Stokes) integral: exact inner line integral, Gauss-Legendre outer "
-        "integral on graded panels, exact closed form where edges touch",
+        "double contour (Stokes) integral: exact inner line integral, Gauss-Legendre outer integral on "
+        "graded panels, exact closed form where edges touch; assumes nothing is in between",
         obstructed=False,
         options={"nodes": NODES},
+    ),
+    "quadrature": Method(
+        "quadrature",
+        "Gauss rules on both areas (the double area integral) with point-pair visibility by ray casting",
+        obstructed=True,
+        options={
+            "order": Option(int, 8, "Gauss order per direction on each polygon", 1, 32),
+            "control_variate": Option(
+                bool, True, "compute the unblocked integral exactly and sample only the blocked part"
+            ),
+        },
+    ),
+    "montecarlo": Method(
+        "montecarlo",
+        "area-to-area quasi-Monte Carlo with Owen-scrambled Sobol points; standard error from 8 "
+        "independent scramblings",
+        obstructed=True,
+        options={
+            "samples": Option(int, 4096, "point pairs per form factor", 8, 2**24),
+            "seed": SEED,
+            "control_variate": Option(
+                bool, True, "compute the unblocked integral exactly and sample only the blocked part"
+            ),
+        },
+    ),
+    "subdivision": Method(
+        "subdivision",
+        "dA -> A_j by uniform subdivision of the receiver (exact Lambert per piece times the piece's "
+        "visibility), summed over source points",
+        obstructed=True,
+        options={"divisions": Option(int, 16, "each receiver triangle is split into divisions^2", 1, 256),
+                 "source": SOURCE_AREA},
+    ),
+    "adaptive": Method(
+        "adaptive",
+        "dA -> A_j by adaptive subdivision of the receiver where visibility changes, summed over "
+        "source points",
+        obstructed=True,
+        options={
+            "tol": Option(float, 1e-5, "pieces contributing less than this to F are not refined", 1e-14, 0.1),
+            "max_depth": Option(int, 8, "deepest refinement level", 1, 16),
+            "source": SOURCE_AREA,
+        },
+    ),
+    "clipping": Method(
+        "clipping",
+        "exact visible region per source point (shadows projected onto the receiver, subtracted by "
+        "polygon clipping, Lambert on the rest), integrated adaptively over the source",
+        obstructed=True,
+        options={
+            "tol": Option(float, 1e-8, "absolute accuracy target on F", 1e-14, 0.1),
+            "max_depth": Option(int, 8, "deepest refinement of the source", 1, 16),
+            "source": Option(object, "adaptive", "'adaptive', 'centre', or k for a fixed k x k Gauss rule"),
+        },
+    ),
+    "hemicube": Method(
+        "hemicube",
+        "hemicube with z-buffer and item buffer per face, exact delta form factors per cell",
+        obstructed=True,
+        kind="rows",
+        options={
+            "resolution": Option(int, 128, "cells along the top face (even)", 4, 4096),
+            "source": SOURCE_ROW,
+            "random_rotation": ROTATE,
+            "seed": SEED,
+        },
+    ),
+    "single-plane": Method(
+        "single-plane",
+        "Sillion's single plane above the patch with Warnock area subdivision; the horizon band it "
+        "misses is reported per row (`lost`)",
+        obstructed=True,
+        kind="rows",
+        options={
+            "half_width": Option(float, 14.0, "half-width of the plane at height 1", 0.5, 1000.0),
+            "min_cell": Option(float, 1 / 128, "smallest Warnock window (relative to height 1)", 1e-5, 1.0),
+            "source": SOURCE_ROW,
+            "random_rotation": ROTATE,
+            "seed": SEED,
+        },
+    ),
+    "raytrace": Method(
+        "raytrace",
+        "cosine-distributed rays (reverse Nusselt analogy) from area-uniform points, first hit by the "
+        "BVH; binomial standard error per entry",
+        obstructed=True,
+        kind="rows",
+        options={"rays": Option(int, 4096, "rays per patch", 1, 2**26), "seed": SEED},
+    ),
+    "nusselt": Method(
+        "nusselt",
+        "Nusselt analog: equal-area cells of the unit disk lifted to the hemisphere, each resolved "
+        "to the visible patch; F = covered disk area / pi",
+        obstructed=True,
+        kind="rows",
+        options={
+            "cells": Option(int, 4096, "disk cells (rounded to a square number)", 1, 2**24),
+            "source": SOURCE_ROW,
+            "jitter": Option(bool, True, "a random point per cell instead of its centre"),
+            "random_rotation": ROTATE,
+            "seed": SEED,
+        },
     ),
 }
 

@@ -13,6 +13,7 @@ pub mod method;
 pub mod obstructed;
 pub mod quadrature;
 pub mod sampling;
+pub mod scene;
 pub mod special;
 pub mod visibility;
 

@@ -9,22 +9,21 @@ use crate::error::{Error, Result};
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicBool, Ordering};
 
-/// Sparse row: (column, value) pairs with increasing column.
-pub type SparseRow = Vec<(u32, f64)>;
-
-/// For every source row i in `rows`, G_ij for all receivers j > i with G_ij != 0.
-/// `pair(i, j)` computes G_ij; `skip(i, j)` is a cheap test that the pair exchanges nothing
-/// (e.g. j behind i), checked first. Stops early with `Error::Cancelled` when `cancel` is set.
-pub fn upper_pair_rows<P, S>(
+/// For every source row i in `rows`, the value of every receiver pair (i, j), j > i, that
+/// `pair(i, j)` returns as `Some` (None: nothing exchanged, not stored). `skip(i, j)` is a
+/// cheap test that the pair exchanges nothing (e.g. j behind i), checked first. Stops early
+/// with `Error::Cancelled` when `cancel` is set.
+pub fn upper_pair_rows<T, P, S>(
     n: usize,
     rows: &[usize],
     receiver: &[bool],
     cancel: &AtomicBool,
     skip: S,
     pair: P,
-) -> Result<Vec<SparseRow>>
+) -> Result<Vec<Vec<(u32, T)>>>
 where
-    P: Fn(usize, usize) -> Result<f64> + Sync,
+    T: Send,
+    P: Fn(usize, usize) -> Result<Option<T>> + Sync,
     S: Fn(usize, usize) -> bool + Sync,
 {
     check_rows(n, rows, receiver)?;
@@ -33,7 +32,7 @@ where
             if cancel.load(Ordering::Relaxed) {
                 return Err(Error::Cancelled);
             }
-            let mut row = SparseRow::new();
+            let mut row = Vec::new();
             if !receiver[i] {
                 return Ok(row);
             }
@@ -41,8 +40,7 @@ where
                 if !receiver[j] || skip(i, j) {
                     continue;
                 }
-                let g = pair(i, j)?;
-                if g != 0.0 {
+                if let Some(g) = pair(i, j)? {
                     row.push((j as u32, g));
                 }
             }
@@ -90,7 +88,7 @@ mod tests {
         let calls = std::sync::atomic::AtomicUsize::new(0);
         let out = upper_pair_rows(n, &rows, &receiver, &AtomicBool::new(false), |_, _| false, |i, j| {
             calls.fetch_add(1, Ordering::Relaxed);
-            Ok((10 * i + j) as f64)
+            Ok(Some((10 * i + j) as f64))
         })
         .unwrap();
         // pairs among receivers {0,1,3,4}: 6 unordered pairs
@@ -102,7 +100,7 @@ mod tests {
 
     #[test]
     fn cancel_stops() {
-        let r = upper_pair_rows(3, &[0, 1], &[true; 3], &AtomicBool::new(true), |_, _| false, |_, _| Ok(1.0));
+        let r = upper_pair_rows(3, &[0, 1], &[true; 3], &AtomicBool::new(true), |_, _| false, |_, _| Ok(Some(1.0)));
         assert_eq!(r.unwrap_err(), Error::Cancelled);
     }
 

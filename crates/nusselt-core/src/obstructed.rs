@@ -67,6 +67,9 @@ pub struct VisOptions {
     /// `subdivision` / `adaptive`: source points, 0 = the centroid alone, k = a k x k Gauss
     /// rule per source triangle or quad (a normalised weighted sum).
     pub source_points: usize,
+    /// `clipping` (and obstructed pairs of `auto`): None integrates over the source
+    /// adaptively to `tol`; Some(0) uses the centroid alone, Some(k) a k x k Gauss rule.
+    pub clip_source: Option<usize>,
     /// `quadrature` / `montecarlo`: sample only the blocked part (see module docs).
     pub control_variate: bool,
     /// `adaptive` / `clipping`: deepest refinement level.
@@ -83,6 +86,7 @@ impl Default for VisOptions {
             seed: 0,
             divisions: 16,
             source_points: 3,
+            clip_source: None,
             control_variate: true,
             max_depth: 8,
         }
@@ -107,8 +111,8 @@ impl VisOptions {
         if !(1..=256).contains(&self.divisions) {
             return bad("divisions must be in 1..=256");
         }
-        if self.source_points > 16 {
-            return bad("source_points must be in 0..=16");
+        if self.source_points > 16 || self.clip_source.is_some_and(|k| k > 16) {
+            return bad("source must be 'centre' or a Gauss order in 1..=16");
         }
         if !(1..=16).contains(&self.max_depth) {
             return bad("max_depth must be in 1..=16");
@@ -205,7 +209,10 @@ pub fn pair(ctx: &Context, i: usize, j: usize, m: VisMethod, o: &VisOptions) -> 
         }
         VisMethod::Clipping | VisMethod::Auto => {
             let f = |x: Vec3| point_visible_view_factor(x, a.normal(), b, &blockers);
-            Estimate::exact(adaptive_over_source(a, &f, o))
+            match o.clip_source {
+                None => Estimate::exact(adaptive_over_source(a, &f, o)),
+                Some(k) => Estimate::exact(source_points(a, k).into_iter().map(|(x, w)| w * f(x)).sum()),
+            }
         }
     })
 }

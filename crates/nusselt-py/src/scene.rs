@@ -4,20 +4,28 @@ use crate::errors::guard;
 use crate::options::options;
 use crate::threads::pool;
 use nusselt_core::geometry::{GeometryError, Polygon};
-use nusselt_core::matrix::{upper_pair_rows, SparseRow};
-use nusselt_core::method::{self, facing, Facing, Method, RuleCache};
+use nusselt_core::scene::{AnyMethod, Scene};
 use nusselt_core::Error;
 use numpy::{IntoPyArray, PyArray1, PyArray2, PyReadonlyArray1, PyReadonlyArray2};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use std::sync::atomic::AtomicBool;
 
+type Csr<'py> = (Bound<'py, PyArray1<i64>>, Bound<'py, PyArray1<i64>>, Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>);
+
 #[pyclass(frozen, module = "nusselt._core")]
 pub struct SceneCore {
-    checked: Vec<Result<Polygon, GeometryError>>,
-    polygons: Vec<Polygon>,
-    receiver: Vec<bool>,
-    rules: RuleCache,
+    errors: Vec<Option<String>>,
+    scene: Scene,
+}
+
+impl SceneCore {
+    fn valid(&self) -> Result<(), Error> {
+        if self.errors.iter().any(|e| e.is_some()) {
+            return Err(Error::InvalidArgument("the scene has invalid polygons".into()));
+        }
+        Ok(())
+    }
 }
 
 #[pymethods]
@@ -29,86 +37,112 @@ impl SceneCore {
         receiver: PyReadonlyArray1<'_, bool>,
         planarity_tol: f64,
     ) -> PyResult<Self> {
-        let checked = polygons_flat(&coords, &offsets, planarity_tol)?;
+        let checked: Vec<Result<Polygon, GeometryError>> = polygons_flat(&coords, &offsets, planarity_tol)?;
         let receiver = receiver.as_slice()?.to_vec();
-        if receiver.len() != checked.len() {
-            return Err(pyo3::exceptions::PyValueError::new_err("receiver mask length differs from polygon count"));
-        }
-        let polygons: Vec<Polygon> = checked.iter().filter_map(|r| r.as_ref().ok().cloned()).collect();
-        let rules = RuleCache::new(polygons.len());
-        Ok(SceneCore { checked, polygons, receiver, rules })
+        let errors = checked.iter().map(|r| r.as_ref().err().map(|e| e.to_string())).collect();
+        let polygons: Vec<Polygon> = checked.into_iter().filter_map(|r| r.ok()).collect();
+        let receiver = if polygons.len() == receiver.len() { receiver } else { vec![false; polygons.len()] };
+        let scene = Scene::new(polygons, receiver).map_err(crate::errors::to_py)?;
+        Ok(SceneCore { errors, scene })
+    }
+
+    /// Per polygon: None, or the validation error message.
+    fn errors(&self) -> Vec<Option<String>> {
+        self.errors.clone()
+    }
+
+    fn areas<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        self.scene.polygons().iter().map(|p| p.area()).collect::<Vec<_>>().into_pyarray(py)
+    }
+
+    fn normals<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let rows: Vec<Vec<f64>> = self.scene.polygons().iter().map(|p| p.normal().to_array().to_vec()).collect();
+        Ok(PyArray2::from_vec2(py, &rows)?)
+    }
+
+    fn centroids<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let rows: Vec<Vec<f64>> = self.scene.polygons().iter().map(|p| p.centroid().to_array().to_vec()).collect();
+        Ok(PyArray2::from_vec2(py, &rows)?)
     }
 
     /// Triangles (vertex-index triples) of polygon k (ear clipping, concave outlines too).
     fn triangulate(&self, k: usize) -> PyResult<Vec<[usize; 3]>> {
-        self.polygons
+        self.scene
+            .polygons()
             .get(k)
             .map(|p| p.triangulate())
             .ok_or_else(|| pyo3::exceptions::PyIndexError::new_err(format!("no polygon {k}")))
     }
 
-    /// Per polygon: None, or the validation error message.
-    fn errors(&self) -> Vec<Option<String>> {
-        self.checked.iter().map(|r| r.as_ref().err().map(|e| e.to_string())).collect()
+    /// True when no polygon of the scene can block another pair.
+    fn unobstructed(&self) -> bool {
+        self.scene.unobstructed()
     }
 
-    fn areas<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
-        self.polygons.iter().map(|p| p.area()).collect::<Vec<_>>().into_pyarray(py)
+    /// Pair methods: G_ij = A_i F_ij for the given rows and every receiver j > i, as CSR
+    /// parts over those rows (indptr, indices, G, standard error of G).
+    fn pair_rows<'py>(&self, py: Python<'py>, rows: PyReadonlyArray1<'_, i64>, method: &str, opts: &Bound<'_, PyDict>) -> PyResult<Csr<'py>> {
+        let rows = to_rows(&rows)?;
+        let m: AnyMethod = method.parse().map_err(crate::errors::to_py)?;
+        let o = options(method, opts)?;
+        let pool = pool();
+        let out = py.detach(|| {
+            guard(|| {
+                self.valid()?;
+                pool.install(|| self.scene.pair_rows(&rows, m, &o, &AtomicBool::new(false)))
+            })
+        })?;
+        let (mut indptr, mut idx, mut val, mut std) = (vec![0i64], Vec::new(), Vec::new(), Vec::new());
+        for r in &out {
+            for &(j, g, s) in r {
+                idx.push(j as i64);
+                val.push(g);
+                std.push(s);
+            }
+            indptr.push(idx.len() as i64);
+        }
+        Ok((indptr.into_pyarray(py), idx.into_pyarray(py), val.into_pyarray(py), std.into_pyarray(py)))
     }
 
-    fn normals<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        let rows: Vec<Vec<f64>> = self.polygons.iter().map(|p| p.normal().to_array().to_vec()).collect();
-        Ok(PyArray2::from_vec2(py, &rows)?)
-    }
-
-    fn centroids<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        let rows: Vec<Vec<f64>> = self.polygons.iter().map(|p| p.centroid().to_array().to_vec()).collect();
-        Ok(PyArray2::from_vec2(py, &rows)?)
-    }
-
-    /// G_ij = A_i F_ij for the rows given and every receiver j > i, as CSR parts
-    /// (indptr, indices, data) over the given rows.
-    fn pair_rows<'py>(
+    /// Row methods: F_ij for the given rows, as CSR parts plus standard errors (NaN where the
+    /// method has none) and the lost hemisphere fraction per row.
+    fn full_rows<'py>(
         &self,
         py: Python<'py>,
         rows: PyReadonlyArray1<'_, i64>,
         method: &str,
         opts: &Bound<'_, PyDict>,
-    ) -> PyResult<(Bound<'py, PyArray1<i64>>, Bound<'py, PyArray1<i64>>, Bound<'py, PyArray1<f64>>)> {
-        let rows: Vec<usize> = rows.as_slice()?.iter().map(|&r| r.max(0) as usize).collect();
-        let m: Method = method.parse().map_err(crate::errors::to_py)?;
-        let o = options(opts)?;
-        let out: Vec<SparseRow> = py.detach(|| {
+    ) -> PyResult<(Bound<'py, PyArray1<i64>>, Bound<'py, PyArray1<i64>>, Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>)> {
+        let rows = to_rows(&rows)?;
+        let m = match method.parse().map_err(crate::errors::to_py)? {
+            AnyMethod::Row(r) => r,
+            _ => return Err(pyo3::exceptions::PyValueError::new_err(format!("{method:?} is not a row method"))),
+        };
+        let o = options(method, opts)?;
+        let pool = pool();
+        let out = py.detach(|| {
             guard(|| {
-                o.check()?;
-                if self.polygons.len() != self.checked.len() {
-                    return Err(Error::InvalidArgument("the scene has invalid polygons".into()));
-                }
-                let cancel = AtomicBool::new(false);
-                let p = &self.polygons;
-                pool().install(|| {
-                    upper_pair_rows(
-                        p.len(),
-                        &rows,
-                        &self.receiver,
-                        &cancel,
-                        |i, j| m == Method::Auto && facing(&p[i], &p[j]) == Facing::None,
-                        |i, j| method::area_factor(&p[i], &p[j], m, &o, Some((&self.rules, i, j))),
-                    )
-                })
+                self.valid()?;
+                pool.install(|| self.scene.full_rows(&rows, m, &o, &AtomicBool::new(false)))
             })
         })?;
-        let mut indptr = Vec::with_capacity(out.len() + 1);
-        indptr.push(0i64);
-        let nnz: usize = out.iter().map(|r| r.len()).sum();
-        let (mut idx, mut val) = (Vec::with_capacity(nnz), Vec::with_capacity(nnz));
+        let (mut indptr, mut idx, mut val, mut std, mut lost) = (vec![0i64], Vec::new(), Vec::new(), Vec::new(), Vec::new());
         for r in &out {
-            for &(j, g) in r {
+            for (k, &(j, f)) in r.entries.iter().enumerate() {
                 idx.push(j as i64);
-                val.push(g);
+                val.push(f);
+                std.push(r.std_err.as_ref().map_or(f64::NAN, |s| s[k]));
             }
             indptr.push(idx.len() as i64);
+            lost.push(r.lost);
         }
-        Ok((indptr.into_pyarray(py), idx.into_pyarray(py), val.into_pyarray(py)))
+        Ok((indptr.into_pyarray(py), idx.into_pyarray(py), val.into_pyarray(py), std.into_pyarray(py), lost.into_pyarray(py)))
     }
+}
+
+fn to_rows(rows: &PyReadonlyArray1<'_, i64>) -> PyResult<Vec<usize>> {
+    rows.as_slice()?
+        .iter()
+        .map(|&r| usize::try_from(r).map_err(|_| pyo3::exceptions::PyValueError::new_err(format!("negative row {r}"))))
+        .collect()
 }

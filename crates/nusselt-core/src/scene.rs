@@ -1,0 +1,280 @@
+//! One entry point for every method: a scene of polygons (some obstruction-only), method
+//! selection by name, and the computations the Python layer asks for (blocks of rows, one
+//! pair, one point).
+//!
+//! Visibility is decided once per scene: when every polygon has the whole scene on or in
+//! front of its plane (a convex enclosure or a subset of one), no polygon can come between
+//! two others, so no pair needs a visibility query at all; otherwise each pair asks the BVH
+//! for candidate blockers (a shaft test) and only pairs with candidates pay for visibility.
+
+use crate::error::{Error, Result};
+use crate::geometry::{Polygon, Vec3};
+use crate::hemisphere::{
+    hemicube_row, nusselt_row, raytrace_row, single_plane_row, HemicubeOptions, NusseltOptions, RaytraceOptions,
+    RowResult, SinglePlaneOptions, SourcePoints,
+};
+use crate::matrix::{full_rows, upper_pair_rows};
+use crate::method::{self, Method, Options, RuleCache};
+use crate::obstructed::{self, Context, Estimate, VisMethod, VisOptions};
+use crate::visibility::Bvh;
+use std::str::FromStr;
+use std::sync::atomic::AtomicBool;
+use std::sync::OnceLock;
+
+/// Every method by name (design.md).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum AnyMethod {
+    /// Unobstructed pair kernels: `analytic`, `contour` (and `auto` without blockers).
+    Exact(Method),
+    /// Pair methods with visibility (`auto`, `quadrature`, `montecarlo`, `subdivision`,
+    /// `adaptive`, `clipping`).
+    Visible(VisMethod),
+    /// Whole rows by hemisphere sampling.
+    Row(RowMethod),
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum RowMethod {
+    Hemicube,
+    SinglePlane,
+    Raytrace,
+    Nusselt,
+}
+
+impl FromStr for AnyMethod {
+    type Err = Error;
+    fn from_str(s: &str) -> Result<Self> {
+        Ok(match s {
+            "analytic" => AnyMethod::Exact(Method::Analytic),
+            "contour" => AnyMethod::Exact(Method::Contour),
+            "hemicube" => AnyMethod::Row(RowMethod::Hemicube),
+            "single-plane" => AnyMethod::Row(RowMethod::SinglePlane),
+            "raytrace" => AnyMethod::Row(RowMethod::Raytrace),
+            "nusselt" => AnyMethod::Row(RowMethod::Nusselt),
+            other => AnyMethod::Visible(VisMethod::from_str(other)?),
+        })
+    }
+}
+
+/// The options of every method; each method reads its own.
+#[derive(Debug, Clone, Default)]
+pub struct AllOptions {
+    pub exact: Options,
+    pub vis: VisOptions,
+    pub hemicube: HemicubeOptions,
+    pub single_plane: SinglePlaneOptions,
+    pub raytrace: RaytraceOptions,
+    pub nusselt: NusseltOptions,
+}
+
+impl AllOptions {
+    pub fn check(&self) -> Result<()> {
+        self.exact.check()?;
+        self.vis.check()
+    }
+}
+
+/// A scene: validated polygons, which of them get rows/columns, and lazily built helpers.
+pub struct Scene {
+    polygons: Vec<Polygon>,
+    receiver: Vec<bool>,
+    rules: RuleCache,
+    bvh: OnceLock<Result<Bvh>>,
+    convex: OnceLock<bool>,
+}
+
+/// One finished pair row: (j, G_ij, standard error of G_ij).
+pub type PairRow = Vec<(u32, f64, f64)>;
+
+impl Scene {
+    pub fn new(polygons: Vec<Polygon>, receiver: Vec<bool>) -> Result<Self> {
+        if receiver.len() != polygons.len() {
+            return Err(Error::InvalidArgument("receiver mask length differs from polygon count".into()));
+        }
+        let rules = RuleCache::new(polygons.len());
+        Ok(Scene { polygons, receiver, rules, bvh: OnceLock::new(), convex: OnceLock::new() })
+    }
+
+    pub fn polygons(&self) -> &[Polygon] {
+        &self.polygons
+    }
+
+    fn bvh(&self) -> Result<&Bvh> {
+        self.bvh.get_or_init(|| Bvh::new(&self.polygons)).as_ref().map_err(|e| e.clone())
+    }
+
+    /// True when no polygon can block any pair: every vertex of the scene lies on or in
+    /// front of every polygon's plane (relative tolerance).
+    pub fn unobstructed(&self) -> bool {
+        *self.convex.get_or_init(|| {
+            let size: f64 = self.polygons.iter().map(|p| p.radius()).fold(0.0, f64::max);
+            let tol = 1e-9 * size.max(f64::MIN_POSITIVE);
+            self.polygons.iter().all(|p| {
+                let (c, n) = (p.centroid(), p.normal());
+                self.polygons.iter().all(|q| q.vertices().iter().all(|v| (*v - c).dot(n) >= -tol))
+            })
+        })
+    }
+
+    fn context(&self) -> Result<Context<'_>> {
+        Ok(Context { polygons: &self.polygons, vis: self.bvh()?, rules: Some(&self.rules) })
+    }
+
+    /// G_ij = A_i F_ij for every row i in `rows` and receiver j > i (pair methods).
+    pub fn pair_rows(&self, rows: &[usize], m: AnyMethod, o: &AllOptions, cancel: &AtomicBool) -> Result<Vec<PairRow>> {
+        o.check()?;
+        let n = self.polygons.len();
+        let p = &self.polygons;
+        let skip = |i: usize, j: usize| method::facing(&p[i], &p[j]) == method::Facing::None;
+        let free = self.unobstructed();
+        let est: Box<dyn Fn(usize, usize) -> Result<Estimate> + Sync> = match m {
+            AnyMethod::Row(_) => return Err(Error::InvalidArgument("a row method has no pair rows".into())),
+            AnyMethod::Exact(mm) => {
+                let ctx = if free { None } else { Some(self.context()?) };
+                Box::new(move |i, j| {
+                    if let Some(ctx) = &ctx {
+                        let mut cand = Vec::new();
+                        ctx.vis.candidates_between(&p[i], &p[j], &[i as u32, j as u32], &mut cand);
+                        if !cand.is_empty() {
+                            return Err(Error::InvalidArgument(format!(
+                                "polygons {i} and {j} may be partly hidden by polygon {}: method {:?} assumes \
+                                 nothing is in between; use a method with visibility (auto, clipping, ...)",
+                                cand[0],
+                                format!("{mm:?}").to_lowercase()
+                            )));
+                        }
+                    }
+                    Ok(Estimate { value: method::area_factor(&p[i], &p[j], mm, &o.exact, Some((&self.rules, i, j)))?, std_err: 0.0 })
+                })
+            }
+            AnyMethod::Visible(VisMethod::Auto) if free => Box::new(move |i, j| {
+                let v = method::area_factor(&p[i], &p[j], Method::Auto, &o.exact, Some((&self.rules, i, j)))?;
+                Ok(Estimate { value: v, std_err: 0.0 })
+            }),
+            AnyMethod::Visible(vm) => {
+                let ctx = self.context()?;
+                let mut vo = o.vis.clone();
+                vo.exact_tol = o.exact.tol;
+                Box::new(move |i, j| obstructed::pair(&ctx, i, j, vm, &vo))
+            }
+        };
+        upper_pair_rows(n, rows, &self.receiver, cancel, skip, |i, j| {
+            let e = est(i, j)?;
+            Ok((e.value != 0.0 || e.std_err != 0.0).then_some((e.value, e.std_err)))
+        })
+        .map(|rows| rows.into_iter().map(|r| r.into_iter().map(|(j, (g, s))| (j, g, s)).collect()).collect())
+    }
+
+    /// Whole rows F_i. by hemisphere sampling.
+    pub fn full_rows(&self, rows: &[usize], m: RowMethod, o: &AllOptions, cancel: &AtomicBool) -> Result<Vec<RowResult>> {
+        let vis = match m {
+            RowMethod::Raytrace | RowMethod::Nusselt => Some(self.bvh()?),
+            _ => None,
+        };
+        full_rows(self.polygons.len(), rows, &self.receiver, cancel, |i| {
+            if !self.receiver[i] {
+                return Ok(RowResult::default());
+            }
+            match m {
+                RowMethod::Hemicube => hemicube_row(&self.polygons, &self.receiver, i, &o.hemicube),
+                RowMethod::SinglePlane => single_plane_row(&self.polygons, &self.receiver, i, &o.single_plane),
+                RowMethod::Raytrace => raytrace_row(&self.polygons, vis.unwrap(), &self.receiver, i, &o.raytrace),
+                RowMethod::Nusselt => nusselt_row(&self.polygons, vis.unwrap(), &self.receiver, i, &o.nusselt),
+            }
+        })
+    }
+}
+
+/// F_ab for a single pair with optional obstacles (opaque from both sides).
+pub fn pair_view_factor(a: Polygon, b: Polygon, obstacles: Vec<Polygon>, m: AnyMethod, o: &AllOptions) -> Result<Estimate> {
+    o.check()?;
+    let area = a.area();
+    let n_obs = obstacles.len();
+    match m {
+        AnyMethod::Exact(mm) => {
+            if n_obs > 0 {
+                return Err(Error::InvalidArgument(format!(
+                    "method {:?} does not handle obstacles",
+                    format!("{mm:?}").to_lowercase()
+                )));
+            }
+            Ok(Estimate { value: method::area_factor(&a, &b, mm, &o.exact, None)? / area, std_err: 0.0 })
+        }
+        AnyMethod::Visible(vm) => {
+            let mut polys = vec![a, b];
+            polys.extend(obstacles);
+            let scene = Scene::new(polys, vec![true; 2 + n_obs])?;
+            let mut vo = o.vis.clone();
+            vo.exact_tol = o.exact.tol;
+            let e = obstructed::pair(&scene.context()?, 0, 1, vm, &vo)?;
+            Ok(Estimate { value: e.value / area, std_err: e.std_err / area })
+        }
+        AnyMethod::Row(rm) => {
+            let mut polys = vec![a, b];
+            polys.extend(obstacles);
+            let mut receiver = vec![false; 2 + n_obs];
+            receiver[0] = true;
+            receiver[1] = true;
+            let scene = Scene::new(polys, receiver)?;
+            let row = scene.full_rows(&[0], rm, o, &AtomicBool::new(false))?.pop().unwrap_or_default();
+            Ok(row_entry(&row, 1))
+        }
+    }
+}
+
+/// F from a differential area (p, unit n) to polygon b, with optional obstacles.
+pub fn point_view_factor(p: Vec3, n: Vec3, b: Polygon, obstacles: Vec<Polygon>, m: AnyMethod, o: &AllOptions) -> Result<Estimate> {
+    o.check()?;
+    if !p.is_finite() || !n.is_finite() || !((n.length() - 1.0).abs() < 1e-6) {
+        return Err(Error::InvalidArgument("point and unit normal must be finite".into()));
+    }
+    let n_obs = obstacles.len();
+    match m {
+        AnyMethod::Exact(mm) => {
+            if n_obs > 0 {
+                return Err(Error::InvalidArgument(format!(
+                    "method {:?} does not handle obstacles",
+                    format!("{mm:?}").to_lowercase()
+                )));
+            }
+            Ok(Estimate { value: method::point_factor(p, n, &b, mm, &o.exact)?, std_err: 0.0 })
+        }
+        AnyMethod::Visible(vm) => {
+            let mut polys = vec![b];
+            polys.extend(obstacles);
+            let scene = Scene::new(polys, vec![true; 1 + n_obs])?;
+            obstructed::point(&scene.context()?, p, n, 0, &[0], vm, &o.vis)
+        }
+        AnyMethod::Row(rm) => {
+            // The point becomes a tiny source patch sampled at its centroid (= p).
+            let size = b.radius().max(p.distance(b.centroid()));
+            let (t, s) = crate::geometry::tangent_frame(n);
+            let e = 1e-7 * size;
+            let tri = Polygon::new(vec![p + e * (2.0 * t), p + e * (-t + 1.7320508075688772 * s), p + e * (-t - 1.7320508075688772 * s)])
+                .map_err(|err| Error::InvalidArgument(format!("point source: {err}")))?;
+            let mut polys = vec![tri, b];
+            polys.extend(obstacles);
+            let mut receiver = vec![false; 2 + n_obs];
+            receiver[0] = true;
+            receiver[1] = true;
+            let mut o = o.clone();
+            o.hemicube.source = SourcePoints::Centre;
+            o.single_plane.source = SourcePoints::Centre;
+            o.nusselt.source = SourcePoints::Centre;
+            let scene = Scene::new(polys, receiver)?;
+            let row = scene.full_rows(&[0], rm, &o, &AtomicBool::new(false))?.pop().unwrap_or_default();
+            Ok(row_entry(&row, 1))
+        }
+    }
+}
+
+fn row_entry(row: &RowResult, j: u32) -> Estimate {
+    let k = row.entries.binary_search_by_key(&j, |e| e.0).ok();
+    Estimate {
+        value: k.map_or(0.0, |k| row.entries[k].1),
+        std_err: match (&row.std_err, k) {
+            (Some(s), Some(k)) => s[k],
+            _ => 0.0,
+        },
+    }
+}
