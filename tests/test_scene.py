@@ -52,7 +52,7 @@ def test_obstruction_only_faces_get_no_row():
 def test_scene_errors_name_the_face():
     polys, _ = cube_faces(1)
     polys[3] = polys[3].copy()
-    polys[3][0, 0] += 0.01  # bend it out of plane
+    polys[3][0, 1] += 0.01  # face 3 is y = 1: move a vertex off that plane
     with pytest.raises(ValueError, match="face 3 .*not planar"):
         nusselt.Scene.from_polygons(polys)
     with pytest.raises(ValueError, match="no faces"):

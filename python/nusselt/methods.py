@@ -59,7 +59,7 @@ TOL = Option(float, 1e-10, "relative accuracy target per unobstructed pair", 1e-
 NODES = Option(int, 8, "Gauss-Legendre nodes per edge panel", 1, 64)
 SEED = Option(int, 0, "seed of the scrambled low-discrepancy points (results are reproducible)", 0, 2**63)
 SOURCE_AREA = Option(
-    object, 3, "source points on A_i: 'centre', or k for a k x k Gauss rule (normalised weighted sum)"
+    object, 8, "source points on A_i: 'centre', or k for a k x k Gauss rule (normalised weighted sum)"
 )
 SOURCE_ROW = Option(
     object, "auto", "source points on each patch: 'auto' (by patch size), 'centre', or k for a k x k Gauss rule"
@@ -76,7 +76,7 @@ METHODS: dict[str, Method] = {
         obstructed=True,
         options={
             "tol": TOL,
-            "obstructed_tol": Option(float, 1e-8, "absolute accuracy target on F for obstructed pairs", 1e-14, 0.1),
+            "obstructed_tol": Option(float, 1e-7, "absolute accuracy target on F for obstructed pairs", 1e-14, 0.1),
         },
     ),
     "analytic": Method(
@@ -97,7 +97,9 @@ METHODS: dict[str, Method] = {
         "Gauss rules on both areas (the double area integral) with point-pair visibility by ray casting",
         obstructed=True,
         options={
-            "order": Option(int, 8, "Gauss order per direction on each polygon", 1, 32),
+            "order": Option(int, 24, "Gauss order per direction on each polygon", 1, 32),
+            "panels": Option(int, 4, "point form: the receiver is split into panels^2 pieces per triangle, "
+                             "each with the order rule (composite rule for the sharp visibility step)", 1, 64),
             "control_variate": Option(
                 bool, True, "compute the unblocked integral exactly and sample only the blocked part"
             ),
@@ -109,7 +111,7 @@ METHODS: dict[str, Method] = {
         "independent scramblings",
         obstructed=True,
         options={
-            "samples": Option(int, 4096, "point pairs per form factor", 8, 2**24),
+            "samples": Option(int, 16384, "point pairs per form factor", 8, 2**24),
             "seed": SEED,
             "control_variate": Option(
                 bool, True, "compute the unblocked integral exactly and sample only the blocked part"
@@ -121,7 +123,7 @@ METHODS: dict[str, Method] = {
         "dA -> A_j by uniform subdivision of the receiver (exact Lambert per piece times the piece's "
         "visibility), summed over source points",
         obstructed=True,
-        options={"divisions": Option(int, 16, "each receiver triangle is split into divisions^2", 1, 256),
+        options={"divisions": Option(int, 48, "each receiver triangle is split into divisions^2", 1, 256),
                  "source": SOURCE_AREA},
     ),
     "adaptive": Method(
@@ -141,8 +143,8 @@ METHODS: dict[str, Method] = {
         "polygon clipping, Lambert on the rest), integrated adaptively over the source",
         obstructed=True,
         options={
-            "tol": Option(float, 1e-8, "absolute accuracy target on F", 1e-14, 0.1),
-            "max_depth": Option(int, 8, "deepest refinement of the source", 1, 16),
+            "tol": Option(float, 1e-7, "absolute accuracy target on F", 1e-14, 0.1),
+            "max_depth": Option(int, 12, "deepest refinement of the source", 1, 16),
             "source": Option(object, "adaptive", "'adaptive', 'centre', or k for a fixed k x k Gauss rule"),
         },
     ),

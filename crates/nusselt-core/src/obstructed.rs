@@ -55,10 +55,16 @@ impl std::str::FromStr for VisMethod {
 pub struct VisOptions {
     /// Unobstructed accuracy target of `auto` (relative), see [`method::Options::tol`].
     pub exact_tol: f64,
-    /// `clipping` / `adaptive` / obstructed pairs of `auto`: absolute tolerance on F.
+    /// `clipping` and obstructed pairs of `auto`: error target on F relative to the pair's
+    /// unobstructed F (so also an absolute bound on F, and row sums in a scene are within
+    /// tol times the unobstructed row sum). `adaptive`: absolute F per leaf piece.
     pub tol: f64,
     /// `quadrature`: Gauss order per direction on each polygon.
     pub order: usize,
+    /// `quadrature`, point form only: the receiver's triangles are split into panels^2 pieces,
+    /// each with the order rule. A single area integral keeps the visibility step sharp, so
+    /// it needs a composite rule; the pair form's second integral smooths the step.
+    pub panels: usize,
     /// `montecarlo`: point pairs per form factor.
     pub samples: usize,
     pub seed: u64,
@@ -80,15 +86,16 @@ impl Default for VisOptions {
     fn default() -> Self {
         VisOptions {
             exact_tol: 1e-10,
-            tol: 1e-8,
-            order: 8,
-            samples: 4096,
+            tol: 1e-7,
+            order: 24,
+            panels: 4,
+            samples: 16384,
             seed: 0,
-            divisions: 16,
-            source_points: 3,
+            divisions: 48,
+            source_points: 8,
             clip_source: None,
             control_variate: true,
-            max_depth: 8,
+            max_depth: 12,
         }
     }
 }
@@ -104,6 +111,9 @@ impl VisOptions {
         }
         if !(1..=32).contains(&self.order) {
             return bad("order must be in 1..=32");
+        }
+        if !(1..=64).contains(&self.panels) {
+            return bad("panels must be in 1..=64");
         }
         if !(8..=1 << 24).contains(&self.samples) {
             return bad("samples must be in 8..=16777216");
@@ -163,8 +173,16 @@ pub fn pair(ctx: &Context, i: usize, j: usize, m: VisMethod, o: &VisOptions) -> 
         return Ok(Estimate::exact(0.0));
     }
     let ignore = [i as u32, j as u32];
+    // Only the part of each polygon in front of the other exchanges radiation: the shaft and
+    // the source integration use those parts (a source point behind the receiver's plane
+    // sees nothing, and a thin strip of such points would escape a sampling rule).
+    let (ca, cb) = match clip_pair_polygons(a, b) {
+        Some(c) => c,
+        None => return Ok(Estimate::exact(0.0)),
+    };
+    let (sa, sb) = (ca.as_ref().unwrap_or(a), cb.as_ref().unwrap_or(b));
     let mut cand = Vec::new();
-    ctx.vis.candidates_between(a, b, &ignore, &mut cand);
+    ctx.vis.candidates_between(sa, sb, &ignore, &mut cand);
     let exact = || {
         let opts = method::Options { tol: o.exact_tol, ..Default::default() };
         method::area_factor(a, b, Method::Auto, &opts, ctx.rules.map(|r| (r, i, j)))
@@ -198,7 +216,7 @@ pub fn pair(ctx: &Context, i: usize, j: usize, m: VisMethod, o: &VisOptions) -> 
         VisMethod::Subdivision | VisMethod::Adaptive => {
             let pieces = if m == VisMethod::Subdivision { Some(subdivide(b, o.divisions)) } else { None };
             let mut g = 0.0;
-            for (x, w) in source_points(a, o.source_points) {
+            for (x, w) in source_points(sa, o.source_points) {
                 let f = match &pieces {
                     Some(p) => uniform_point(x, a.normal(), p, &|y| visible(x, y)),
                     None => adaptive_point(x, a.normal(), b, &|y| visible(x, y), o),
@@ -210,11 +228,35 @@ pub fn pair(ctx: &Context, i: usize, j: usize, m: VisMethod, o: &VisOptions) -> 
         VisMethod::Clipping | VisMethod::Auto => {
             let f = |x: Vec3| point_visible_view_factor(x, a.normal(), b, &blockers);
             match o.clip_source {
-                None => Estimate::exact(adaptive_over_source(a, &f, o)),
-                Some(k) => Estimate::exact(source_points(a, k).into_iter().map(|(x, w)| w * f(x)).sum()),
+                None => {
+                    // Relative target: blocked F <= unobstructed F, so an error of tol * G_free
+                    // is also within tol absolute, and small (distant) pairs cost little.
+                    let free = exact()?;
+                    if free <= 0.0 {
+                        return Ok(Estimate::exact(0.0));
+                    }
+                    Estimate::exact(adaptive_over_source(sa, &f, o.tol * free, o))
+                }
+                Some(k) => Estimate::exact(source_points(sa, k).into_iter().map(|(x, w)| w * f(x)).sum()),
             }
         }
     })
+}
+
+/// The parts of a and b in front of each other, as polygons; `None` inside when a polygon is
+/// whole (nothing clipped), outer `None` when they exchange nothing.
+fn clip_pair_polygons(a: &Polygon, b: &Polygon) -> Option<(Option<Polygon>, Option<Polygon>)> {
+    let (va, vb) = crate::geometry::clip_pair(a, b)?;
+    let keep = |orig: &Polygon, v: Vec<Vec3>| {
+        if v.len() == orig.vertices().len() && v.iter().zip(orig.vertices()).all(|(p, q)| p == q) {
+            None
+        } else {
+            // a clipped sliver may fail validation (zero area); the whole polygon then serves,
+            // its points behind the plane contributing nothing
+            Polygon::with_tolerance(v, 1e-6).ok()
+        }
+    };
+    Some((keep(a, va), keep(b, vb)))
 }
 
 /// F from a differential area (p, unit n) to polygon j of the scene, with visibility.
@@ -239,11 +281,15 @@ pub fn point(ctx: &Context, p: Vec3, n: Vec3, j: usize, ignore: &[u32], m: VisMe
     let visible = |y: Vec3| !ctx.vis.occluded(p, y, ignore);
     Ok(match m {
         VisMethod::Quadrature => {
-            let rule = AreaRule::new(b, o.order);
+            let rules: Vec<AreaRule> = subdivide(b, o.panels)
+                .into_iter()
+                .filter_map(|t| Polygon::new(t.to_vec()).ok())
+                .map(|t| AreaRule::new(&t, o.order))
+                .collect();
             let sum = |pred: &dyn Fn(Vec3) -> bool| -> f64 {
-                rule.points
+                rules
                     .iter()
-                    .zip(&rule.weights)
+                    .flat_map(|r| r.points.iter().zip(&r.weights))
                     .filter(|(y, _)| pred(**y))
                     .map(|(y, w)| w * kernel(p, n, *y, b.normal()))
                     .sum()
@@ -372,31 +418,31 @@ fn uniform_point(x: Vec3, n: Vec3, pieces: &[[Vec3; 3]], visible: &dyn Fn(Vec3) 
         .sum()
 }
 
-/// Adaptive subdivision: a piece whose corners and centre agree on visibility is taken whole
-/// (exact Lambert times that visibility); otherwise it is split in four, down to `max_depth`
-/// or until its whole contribution is below `tol`, where the visible fraction of its samples
-/// weights it.
+/// Adaptive subdivision: a piece is split in four while visibility differs among its seven
+/// samples (corners pulled 1 % inwards, edge midpoints, centre) and its exact unobstructed
+/// contribution (Lambert) exceeds `tol`, down to `max_depth`; there the visible fraction of
+/// the samples weights it. Pieces whose samples agree are still refined to `MIN_DEPTH`
+/// levels, so that a shadow smaller than a first-level piece is not missed between samples.
 fn adaptive_point(x: Vec3, n: Vec3, b: &Polygon, visible: &dyn Fn(Vec3) -> bool, o: &VisOptions) -> f64 {
+    const MIN_DEPTH: usize = 4;
     fn rec(x: Vec3, n: Vec3, t: [Vec3; 3], depth: usize, visible: &dyn Fn(Vec3) -> bool, o: &VisOptions) -> f64 {
         let f = analytic::point_polygon(x, n, &t);
         if f <= 0.0 {
             return 0.0;
         }
         let c = centroid3(&t);
-        // corners pulled 1 % toward the centre: a ray to an exact shared edge is ambiguous
-        let samples = [c, t[0] + 0.01 * (c - t[0]), t[1] + 0.01 * (c - t[1]), t[2] + 0.01 * (c - t[2])];
-        let vis: Vec<bool> = samples.iter().map(|&y| visible(y)).collect();
-        let seen = vis.iter().filter(|&&v| v).count();
-        if seen == 0 || seen == vis.len() {
-            if depth >= 1 || f <= o.tol {
-                return if seen == 0 { 0.0 } else { f };
-            }
-        } else if depth >= o.max_depth || f <= o.tol {
-            return f * seen as f64 / vis.len() as f64;
-        }
         let m01 = 0.5 * (t[0] + t[1]);
         let m12 = 0.5 * (t[1] + t[2]);
         let m20 = 0.5 * (t[2] + t[0]);
+        // a ray to an exact shared edge is ambiguous: pull the boundary samples inwards
+        let inward = |y: Vec3| y + 0.01 * (c - y);
+        let samples = [c, inward(t[0]), inward(t[1]), inward(t[2]), inward(m01), inward(m12), inward(m20)];
+        let seen = samples.iter().filter(|&&y| visible(y)).count();
+        let uniform = seen == 0 || seen == samples.len();
+        let done = if uniform { depth >= MIN_DEPTH.min(o.max_depth) } else { depth >= o.max_depth };
+        if done || f <= o.tol {
+            return f * seen as f64 / samples.len() as f64;
+        }
         [[t[0], m01, m20], [m01, t[1], m12], [m20, m12, t[2]], [m01, m12, m20]]
             .into_iter()
             .map(|s| rec(x, n, s, depth + 1, visible, o))
@@ -428,30 +474,78 @@ fn triangle_integral(t: &[Vec3; 3], f: &dyn Fn(Vec3) -> f64) -> f64 {
     area * radon7().iter().map(|(b, w)| w * f(t[0] * b[0] + t[1] * b[1] + t[2] * b[2])).sum::<f64>()
 }
 
-/// Integral of f over the source polygon by adaptive triangle subdivision: a triangle is
-/// accepted when its degree-5 value and the sum over its four children agree to
-/// tol * (its area); the visible-region F is continuous but has kinks along shadow lines,
-/// which this refinement follows.
-fn adaptive_over_source(a: &Polygon, f: &dyn Fn(Vec3) -> f64, o: &VisOptions) -> f64 {
-    fn rec(t: [Vec3; 3], whole: f64, depth: usize, f: &dyn Fn(Vec3) -> f64, o: &VisOptions) -> f64 {
+/// Most integrand evaluations one adaptive source integral may spend (about 0.1-1 s).
+pub const MAX_SOURCE_EVALS: usize = 60_000;
+
+/// Integral of f over the source polygon by globally adaptive triangle subdivision: every
+/// leaf triangle carries its degree-5 value, the sum over its four children and the
+/// difference of the two as error estimate; the leaf with the largest estimate is split
+/// until the estimates add up to `goal` (an error bound on G = A_i F), the depth limit or the
+/// evaluation budget is reached. The visible-region F is continuous but has kinks along
+/// shadow lines: a global criterion spends the refinement along those lines only as far
+/// as the total error needs it (a local criterion would refine them without end).
+fn adaptive_over_source(a: &Polygon, f: &dyn Fn(Vec3) -> f64, goal: f64, o: &VisOptions) -> f64 {
+    use std::cmp::Ordering;
+    use std::collections::BinaryHeap;
+    struct Leaf {
+        t: [Vec3; 3],
+        kids: [f64; 4],
+        err: f64,
+        depth: usize,
+    }
+    impl PartialEq for Leaf {
+        fn eq(&self, o: &Self) -> bool {
+            self.err == o.err
+        }
+    }
+    impl Eq for Leaf {}
+    impl PartialOrd for Leaf {
+        fn partial_cmp(&self, o: &Self) -> Option<Ordering> {
+            Some(self.cmp(o))
+        }
+    }
+    impl Ord for Leaf {
+        fn cmp(&self, o: &Self) -> Ordering {
+            self.err.total_cmp(&o.err)
+        }
+    }
+    let split = |t: &[Vec3; 3]| {
         let m01 = 0.5 * (t[0] + t[1]);
         let m12 = 0.5 * (t[1] + t[2]);
         let m20 = 0.5 * (t[2] + t[0]);
-        let kids = [[t[0], m01, m20], [m01, t[1], m12], [m20, m12, t[2]], [m01, m12, m20]];
-        let parts: Vec<f64> = kids.iter().map(|k| triangle_integral(k, f)).collect();
-        let sum: f64 = parts.iter().sum();
-        let area = 0.5 * (t[1] - t[0]).cross(t[2] - t[0]).length();
-        if depth >= o.max_depth || (sum - whole).abs() <= o.tol * area {
-            return sum;
-        }
-        kids.into_iter().zip(parts).map(|(k, p)| rec(k, p, depth + 1, f, o)).sum()
-    }
+        [[t[0], m01, m20], [m01, t[1], m12], [m20, m12, t[2]], [m01, m12, m20]]
+    };
+    let leaf = |t: [Vec3; 3], whole: f64, depth: usize| {
+        let k = split(&t);
+        let kids = [0, 1, 2, 3].map(|i| triangle_integral(&k[i], f));
+        let err = (kids.iter().sum::<f64>() - whole).abs();
+        Leaf { t, kids, err, depth }
+    };
     let v = a.vertices();
-    a.triangulate()
-        .iter()
-        .map(|t| {
-            let t = [v[t[0]], v[t[1]], v[t[2]]];
-            rec(t, triangle_integral(&t, f), 0, f, o)
-        })
-        .sum()
+    let mut heap = BinaryHeap::new();
+    let mut evals = 0usize;
+    for t in a.triangulate() {
+        let t = [v[t[0]], v[t[1]], v[t[2]]];
+        heap.push(leaf(t, triangle_integral(&t, f), 0));
+        evals += 35;
+    }
+    let mut total_err: f64 = heap.iter().map(|l| l.err).sum();
+    let mut done = Vec::new(); // leaves at the depth limit
+    while total_err > goal && evals < MAX_SOURCE_EVALS {
+        let Some(worst) = heap.pop() else { break };
+        if worst.depth >= o.max_depth {
+            done.push(worst);
+            continue;
+        }
+        total_err -= worst.err;
+        for (k, whole) in split(&worst.t).into_iter().zip(worst.kids) {
+            let l = leaf(k, whole, worst.depth + 1);
+            total_err += l.err;
+            heap.push(l);
+            evals += 28;
+        }
+        // guard against drift of the running sum
+        total_err = total_err.max(0.0);
+    }
+    heap.iter().chain(done.iter()).map(|l| l.kids.iter().sum::<f64>()).sum()
 }

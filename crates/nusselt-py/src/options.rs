@@ -36,6 +36,7 @@ pub fn options(method: &str, d: &Bound<'_, PyDict>) -> PyResult<AllOptions> {
             "obstructed_tol" => o.vis.tol = v.extract()?,
             "nodes" => o.exact.nodes = v.extract()?,
             "order" => o.vis.order = v.extract()?,
+            "panels" => o.vis.panels = v.extract()?,
             "samples" => o.vis.samples = v.extract()?,
             "divisions" => o.vis.divisions = v.extract()?,
             "control_variate" => o.vis.control_variate = v.extract()?,
