@@ -76,7 +76,9 @@ METHODS: dict[str, Method] = {
         obstructed=True,
         options={
             "tol": TOL,
-            "obstructed_tol": Option(float, 1e-7, "absolute accuracy target on F for obstructed pairs", 1e-14, 0.1),
+            "obstructed_tol": Option(
+                float, 1e-6, "accuracy target for obstructed pairs, relative to the pair's unobstructed F "
+                "(so also absolute on F; row sums within it in enclosures)", 1e-14, 0.1),
         },
     ),
     "analytic": Method(
@@ -143,7 +145,8 @@ METHODS: dict[str, Method] = {
         "polygon clipping, Lambert on the rest), integrated adaptively over the source",
         obstructed=True,
         options={
-            "tol": Option(float, 1e-7, "absolute accuracy target on F", 1e-14, 0.1),
+            "tol": Option(float, 1e-7, "accuracy target on F, relative to the pair's unobstructed F (so also absolute)",
+                          1e-14, 0.1),
             "max_depth": Option(int, 12, "deepest refinement of the source", 1, 16),
             "source": Option(object, "adaptive", "'adaptive', 'centre', or k for a fixed k x k Gauss rule"),
         },
