@@ -59,7 +59,8 @@ TOL = Option(float, 1e-10, "relative accuracy target per unobstructed pair", 1e-
 NODES = Option(int, 8, "Gauss-Legendre nodes per edge panel", 1, 64)
 SEED = Option(int, 0, "seed of the scrambled low-discrepancy points (results are reproducible)", 0, 2**63)
 SOURCE_AREA = Option(
-    object, 8, "source points on A_i: 'centre', or k for a k x k Gauss rule (normalised weighted sum)"
+    object, "auto", "source points on A_i: 'auto' (the source cut along the lines where the visible F has "
+    "a kink, 7 points per piece), 'centre', or k for a k x k Gauss rule (always a normalised weighted sum)"
 )
 SOURCE_ROW = Option(
     object, "auto", "source points on each patch: 'auto' (by patch size), 'centre', or k for a k x k Gauss rule"

@@ -1,1 +1,64 @@
-fn main() {}
+//! Throughput of the unobstructed pair kernels (pairs/s), per geometry class:
+//! triangle-triangle and quad-quad, separated, near, and touching (shared edge / vertex).
+//!
+//!     cargo bench -p nusselt-core --bench pair_kernels
+//!
+//! Criterion reports time per pair; pairs/s = 1 / time.
+
+use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
+use glam::DVec3 as V;
+use nusselt_core::geometry::Polygon;
+use nusselt_core::method::{self, Method, Options};
+use nusselt_core::{analytic, contour};
+use std::hint::black_box;
+
+fn poly(v: &[[f64; 3]]) -> Polygon {
+    Polygon::new(v.iter().map(|p| V::from_array(*p)).collect()).expect("valid benchmark polygon")
+}
+
+/// (name, emitter, receiver): each receiver faces its emitter.
+fn cases() -> Vec<(&'static str, Polygon, Polygon)> {
+    let quad = poly(&[[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0]]);
+    let tri = poly(&[[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]);
+    vec![
+        // parallel, facing, 5 sizes apart: the far-field case of a large matrix
+        ("quad-quad separated", quad.clone(), poly(&[[0.3, 0.2, 5.0], [0.3, 1.2, 5.0], [1.3, 1.2, 5.0], [1.3, 0.2, 5.0]])),
+        // parallel, facing, one size apart, offset: a neighbour across a room
+        ("quad-quad near", quad.clone(), poly(&[[0.5, 0.2, 1.0], [0.5, 1.2, 1.0], [1.5, 1.2, 1.0], [1.5, 0.2, 1.0]])),
+        // perpendicular with a shared edge: the corner of every box
+        ("quad-quad shared edge", quad.clone(), poly(&[[0.0, 0.0, 0.0], [0.0, 0.0, 1.0], [1.0, 0.0, 1.0], [1.0, 0.0, 0.0]])),
+        // perpendicular with a shared vertex only
+        ("quad-quad shared vertex", quad, poly(&[[1.0, 1.0, 0.0], [1.0, 1.0, 1.0], [2.0, 1.0, 1.0], [2.0, 1.0, 0.0]])),
+        ("tri-tri separated", tri.clone(), poly(&[[0.2, 0.1, 5.0], [0.2, 1.1, 5.0], [1.2, 0.1, 5.0]])),
+        ("tri-tri near", tri.clone(), poly(&[[0.4, 0.3, 0.8], [0.1, 1.0, 1.2], [1.2, 0.5, 0.9]])),
+        ("tri-tri shared edge", tri, poly(&[[0.0, 0.0, 0.0], [0.0, 0.0, 1.0], [1.0, 0.0, 0.0]])),
+    ]
+}
+
+fn pair_kernels(c: &mut Criterion) {
+    let mut g = c.benchmark_group("pair");
+    g.throughput(Throughput::Elements(1));
+    for (name, a, b) in cases() {
+        g.bench_with_input(BenchmarkId::new("analytic", name), &(&a, &b), |bch, (a, b)| {
+            bch.iter(|| analytic::polygon_pair(black_box(a), black_box(b)))
+        });
+        g.bench_with_input(BenchmarkId::new("contour8", name), &(&a, &b), |bch, (a, b)| {
+            bch.iter(|| contour::polygon_pair(black_box(a), black_box(b), 8).unwrap())
+        });
+        for tol in [1e-6, 1e-10] {
+            let opts = Options { tol, ..Default::default() };
+            g.bench_with_input(BenchmarkId::new(format!("auto{tol:e}"), name), &(&a, &b), |bch, (a, b)| {
+                bch.iter(|| method::area_factor(black_box(a), black_box(b), Method::Auto, &opts, None).unwrap())
+            });
+        }
+    }
+    g.finish();
+}
+
+criterion_group! {
+    name = benches;
+    config = Criterion::default().sample_size(30).measurement_time(std::time::Duration::from_secs(1))
+        .warm_up_time(std::time::Duration::from_millis(300));
+    targets = pair_kernels
+}
+criterion_main!(benches);

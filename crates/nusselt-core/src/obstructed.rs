@@ -70,9 +70,11 @@ pub struct VisOptions {
     pub seed: u64,
     /// `subdivision`: each receiver triangle is split into divisions^2 pieces.
     pub divisions: usize,
-    /// `subdivision` / `adaptive`: source points, 0 = the centroid alone, k = a k x k Gauss
-    /// rule per source triangle or quad (a normalised weighted sum).
-    pub source_points: usize,
+    /// `subdivision` / `adaptive`: source points. None (default): the source is cut along
+    /// its kink lines (see [`split_at_kinks`]) and each piece gets Radon's 7-point rule;
+    /// Some(0) is the centroid alone, Some(k) a k x k Gauss rule per source triangle or quad
+    /// (always a normalised weighted sum).
+    pub source_points: Option<usize>,
     /// `clipping` (and obstructed pairs of `auto`): None integrates over the source
     /// adaptively to `tol`; Some(0) uses the centroid alone, Some(k) a k x k Gauss rule.
     pub clip_source: Option<usize>,
@@ -92,7 +94,7 @@ impl Default for VisOptions {
             samples: 16384,
             seed: 0,
             divisions: 48,
-            source_points: 8,
+            source_points: None,
             clip_source: None,
             control_variate: true,
             max_depth: 12,
@@ -121,7 +123,7 @@ impl VisOptions {
         if !(1..=256).contains(&self.divisions) {
             return bad("divisions must be in 1..=256");
         }
-        if self.source_points > 16 || self.clip_source.is_some_and(|k| k > 16) {
+        if self.source_points.is_some_and(|k| k > 16) || self.clip_source.is_some_and(|k| k > 16) {
             return bad("source must be 'centre' or a Gauss order in 1..=16");
         }
         if !(1..=16).contains(&self.max_depth) {
@@ -216,7 +218,17 @@ pub fn pair(ctx: &Context, i: usize, j: usize, m: VisMethod, o: &VisOptions) -> 
         VisMethod::Subdivision | VisMethod::Adaptive => {
             let pieces = if m == VisMethod::Subdivision { Some(subdivide(b, o.divisions)) } else { None };
             let mut g = 0.0;
-            for (x, w) in source_points(sa, o.source_points) {
+            let points = match o.source_points {
+                Some(k) => source_points(sa, k),
+                None => split_at_kinks(sa, b, &blockers)
+                    .iter()
+                    .flat_map(|t| {
+                        let area = 0.5 * (t[1] - t[0]).cross(t[2] - t[0]).length();
+                        radon7().map(|(c, w)| (t[0] * c[0] + t[1] * c[1] + t[2] * c[2], area * w))
+                    })
+                    .collect(),
+            };
+            for (x, w) in points {
                 let f = match &pieces {
                     Some(p) => uniform_point(x, a.normal(), p, &|y| visible(x, y)),
                     None => adaptive_point(x, a.normal(), b, &|y| visible(x, y), o),
@@ -544,10 +556,13 @@ fn split_at_kinks(a: &Polygon, receiver: &Polygon, blockers: &[&Polygon]) -> Vec
         }
         pieces = next;
     }
-    // Every piece is convex (a triangle cut by planes): fan triangulation.
+    // Every piece is convex (a triangle cut by planes): fan triangulation. Slivers from cuts
+    // through a vertex carry no area but would put sample points on a kink line.
+    let min_area = 1e-12 * a.area();
     pieces
         .iter()
         .flat_map(|p| (1..p.len() - 1).map(move |k| [p[0], p[k], p[k + 1]]))
+        .filter(|t| 0.5 * (t[1] - t[0]).cross(t[2] - t[0]).length() > min_area)
         .collect()
 }
 

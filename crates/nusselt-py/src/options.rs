@@ -54,7 +54,7 @@ pub fn options(method: &str, d: &Bound<'_, PyDict>) -> PyResult<AllOptions> {
                 o.hemicube.source = sp;
                 o.single_plane.source = sp;
                 o.nusselt.source = sp;
-                o.vis.source_points = k.unwrap_or(o.vis.source_points);
+                o.vis.source_points = k;
                 o.vis.clip_source = k;
             }
             "resolution" => o.hemicube.resolution = v.extract()?,
