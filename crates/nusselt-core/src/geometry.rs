@@ -288,13 +288,22 @@ pub fn clip_to_halfspace(v: &[Vec3], p: Vec3, n: Vec3, tol: f64, out: &mut Vec<V
     if m == 0 {
         return;
     }
-    let d: Vec<f64> = v
-        .iter()
-        .map(|x| {
-            let s = (x - p).dot(n);
-            if s.abs() <= tol { 0.0 } else { s }
-        })
-        .collect();
+    // signed distances, on the stack for the usual small polygons
+    let dist = |x: &Vec3| {
+        let s = (*x - p).dot(n);
+        if s.abs() <= tol { 0.0 } else { s }
+    };
+    let mut small = [0.0f64; 16];
+    let heap: Vec<f64>;
+    let d: &[f64] = if m <= small.len() {
+        for (k, x) in v.iter().enumerate() {
+            small[k] = dist(x);
+        }
+        &small[..m]
+    } else {
+        heap = v.iter().map(dist).collect();
+        &heap
+    };
     if d.iter().all(|&s| s >= 0.0) {
         out.extend_from_slice(v);
         return;
@@ -315,8 +324,22 @@ pub fn clip_to_halfspace(v: &[Vec3], p: Vec3, n: Vec3, tol: f64, out: &mut Vec<V
     }
     // A clipped polygon may carry vertices repeated where a vertex lay on the plane.
     let scale = bounding_diameter(out);
-    let cleaned = drop_repeated(std::mem::take(out), COINCIDENT_TOL * scale);
-    *out = cleaned;
+    drop_repeated_in_place(out, COINCIDENT_TOL * scale);
+}
+
+/// [`drop_repeated`] without a new allocation.
+fn drop_repeated_in_place(v: &mut Vec<Vec3>, tol: f64) {
+    let mut kept = 0;
+    for k in 0..v.len() {
+        if kept == 0 || v[kept - 1].distance(v[k]) > tol {
+            v[kept] = v[k];
+            kept += 1;
+        }
+    }
+    v.truncate(kept);
+    while v.len() > 1 && v[0].distance(*v.last().unwrap()) <= tol {
+        v.pop();
+    }
 }
 
 /// Clips each polygon of a pair to the other's front half-space (needed before any contour

@@ -519,15 +519,62 @@ fn split_at_kinks(a: &Polygon, receiver: &Polygon, blockers: &[&Polygon]) -> Vec
         (0..v.len()).map(move |k| (v[k], v[(k + 1) % v.len()])).collect::<Vec<_>>()
     };
     let rec_edges = edges(receiver);
+    let (ca, na) = (a.centroid(), a.normal());
+    // Extent, along the direction u of the plane's trace on the source, of the source points
+    // from which the blocker edge's shadow can touch the receiver edge: lines r -> b through
+    // the four endpoint pairs, continued beyond b to the source plane (the position is
+    // monotone in each endpoint, so the corners bound it). None: unbounded, keep the plane.
+    let reach = |r: [Vec3; 2], b: [Vec3; 2], u: Vec3| -> Option<(f64, f64)> {
+        let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+        for ri in r {
+            for bj in b {
+                let den = na.dot(bj - ri);
+                let t = na.dot(ca - ri) / den;
+                if !(t.is_finite() && t > 1.0) {
+                    return None;
+                }
+                let s = u.dot(ri + t * (bj - ri));
+                lo = lo.min(s);
+                hi = hi.max(s);
+            }
+        }
+        Some((lo, hi))
+    };
+    let src = a.vertices();
+    let chord = |q: Vec3, n: Vec3, u: Vec3| -> (f64, f64) {
+        let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+        for k in 0..src.len() {
+            let (x, y) = (src[k], src[(k + 1) % src.len()]);
+            let (dx, dy) = (n.dot(x - q), n.dot(y - q));
+            if (dx <= 0.0) != (dy <= 0.0) {
+                let s = u.dot(x + (y - x) * (dx / (dx - dy)));
+                lo = lo.min(s);
+                hi = hi.max(s);
+            }
+        }
+        (lo, hi)
+    };
     for b in blockers {
         add(b.vertices()[0], b.normal());
         for (q0, q1) in edges(b) {
             let g = q1 - q0;
             for &(p0, p1) in &rec_edges {
                 let d = p1 - p0;
-                if d.cross(g).length() <= 1e-9 * d.length() * g.length() {
-                    add(p0, d.cross(q0 - p0));
+                if d.cross(g).length() > 1e-9 * d.length() * g.length() {
+                    continue;
                 }
+                let n = d.cross(q0 - p0);
+                let u = n.cross(na);
+                if u.length() > 0.0 {
+                    let u = u.normalize();
+                    if let Some((lo, hi)) = reach([p0, p1], [q0, q1], u) {
+                        let (slo, shi) = chord(p0, n, u);
+                        if hi <= slo + tol || lo >= shi - tol {
+                            continue; // the shadow edge never meets the receiver edge from here
+                        }
+                    }
+                }
+                add(p0, n);
             }
         }
     }
@@ -610,7 +657,9 @@ fn adaptive_over_source(start: &[[Vec3; 3]], f: &dyn Fn(Vec3) -> f64, goal: f64,
     let leaf = |t: [Vec3; 3], whole: f64, depth: usize| {
         let k = split(&t);
         let kids = [0, 1, 2, 3].map(|i| triangle_integral(&k[i], f));
-        let err = (kids.iter().sum::<f64>() - whole).abs();
+        // |kids - whole| bounds the coarse value's error; the kids' sum (what is returned) is
+        // better by 2^6 on smooth pieces and by 2^3 next to an unsplit kink: count a quarter.
+        let err = 0.25 * (kids.iter().sum::<f64>() - whole).abs();
         Leaf { t, kids, err, depth }
     };
     let mut heap = BinaryHeap::new();
