@@ -74,6 +74,7 @@ def form_factors(
     checkpoint: str | os.PathLike | None = None,
     resume: bool = False,
     block_size: int = 2_000_000,
+    threshold: float = 0.0,
     **options,
 ) -> FormFactors:
     """The form-factor matrix of a scene: F[i, j] for every pair of receiving polygons.
@@ -95,6 +96,11 @@ def form_factors(
         an interrupted run continues from there and gives the identical matrix.
     block_size : int
         Work per block: upper-triangle pairs (pair methods) or row entries (row methods).
+    threshold : float
+        Sparse threshold: a pair is dropped from the result when both F_ij and F_ji are below
+        ``threshold`` (default 0: every nonzero entry is kept), so reciprocity still holds.
+        Rows then sum to less by what they dropped; ``info["dropped"]`` reports the largest
+        row mass dropped.
 
     Returns a :class:`FormFactors`; ``matrix`` is a ``scipy.sparse.csr_array`` unless dense.
     """
@@ -102,6 +108,8 @@ def form_factors(
         raise TypeError(f"form_factors expects a nusselt.Scene, got {type(scene).__name__}")
     if not (isinstance(block_size, int) and block_size >= 1):
         raise ValueError(f"block_size must be a positive integer, got {block_size!r}")
+    if not (isinstance(threshold, (int, float)) and 0.0 <= threshold < 1.0):
+        raise ValueError(f"threshold must be a number in [0, 1), got {threshold!r}")
     m, opts = resolve(method, options)
     recv = scene.receivers
     nr = len(recv)
@@ -152,6 +160,17 @@ def form_factors(
     matrix = sp.csr_array((v, (r, c)), shape=(nr, nr))
     matrix.sum_duplicates()
     matrix.sort_indices()
+    dropped = 0.0
+    if threshold > 0.0:
+        # Drop a pair only when both directions are small, so reciprocity still holds.
+        big = (matrix >= threshold).astype(np.int8)
+        keep = (big + big.T).tocsr()
+        kept = matrix.multiply(keep > 0).tocsr()
+        kept.sort_indices()
+        dropped = float(np.max(matrix.sum(axis=1) - kept.sum(axis=1))) if nr else 0.0
+        matrix = sp.csr_array(kept)
+        if std is not None:
+            std = sp.csr_array(std.multiply(keep > 0).tocsr())
     names = [f"{scene.surface_names[scene.surface[k]]}[{k}]" for k in recv]
     return FormFactors(
         matrix.toarray() if dense else matrix,
@@ -163,17 +182,27 @@ def form_factors(
         surface_names=scene.surface_names,
         std_err=std,
         lost=lost,
-        info={"options": opts},
+        info={"options": opts, "threshold": threshold, "dropped": dropped},
     )
 
 
-def _check_dense_fits(n: int) -> None:
-    need = 8 * n * n * 2  # the matrix plus one temporary
+def memory_estimate(n: int, dense: bool = False) -> tuple[int, int | None]:
+    """(bytes the result of an n-row run may need, bytes of memory available or None).
+
+    Sparse: the worst case, every pair nonzero, about 60 bytes per entry while the result is
+    assembled (row/column/value triplets for both halves of the symmetric G, then CSR).
+    Dense: the matrix plus one temporary."""
+    need = (8 * 2 if dense else 60) * n * n
     try:
         avail = os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
     except (ValueError, OSError, AttributeError):
-        return
-    if need > avail:
+        avail = None
+    return need, avail
+
+
+def _check_dense_fits(n: int) -> None:
+    need, avail = memory_estimate(n, dense=True)
+    if avail is not None and need > avail:
         raise MemoryError(
             f"a dense {n} x {n} matrix needs about {need / 2**30:.1f} GiB but {avail / 2**30:.1f} GiB are free; "
             "use the sparse result (dense=False)"

@@ -36,15 +36,72 @@ def bundled(name: str) -> str:
 
 
 def cmd_demo(args) -> int:
+    """The bundled Cornell box with its two blocks: the surface matrix (obstructed, auto) and a
+    picture of every patch coloured by its form factor to the light."""
+    import os
+    import time
+
+    import numpy as np
+
     from .api import form_factors
+    from .render import render, value_range, write_png
     from .scene import Scene
 
-    scene = Scene.from_file(bundled("cornell_empty.obj"))
-    res = form_factors(scene, method="auto").by_surface()
-    print(f"Empty Cornell box ({len(scene)} polygons, mm), exact form factors F[from, to]:")
-    print(res.summary())
-    print("(rows sum to less than 1: the box is open at the camera side)")
+    base = Scene.from_file(bundled("cornell_box.obj"))
+    # One surface per block for the summary (the OBJ has one object per block face).
+    names = [base.surface_names[s].split("_")[0] + " block" if "_" in base.surface_names[s] else base.surface_names[s]
+             for s in base.surface]
+    scene = Scene.from_polygons(base.polygons, surface=names)
+    t0 = time.perf_counter()
+    res = form_factors(scene, method="auto", obstructed_tol=args.tol)
+    t1 = time.perf_counter()
+    surf = res.by_surface()
+    print(f"Cornell box with two blocks ({len(scene)} polygons, mm): form factors F[from, to], method auto, "
+          f"obstructed pairs to {args.tol:g} relative ({t1 - t0:.1f} s)")
+    print(surf.summary())
+    print("(rows sum to less than 1: the box is open at the camera side; the block bottoms stand on the floor)")
+
+    # The light's row on a finer mesh: F(light -> patch) for every patch, obstructed, and the
+    # same information per unit area by reciprocity, F(patch -> light) = A_light F(light -> patch) / A_patch.
+    fine = scene.refined(args.refine)
+    is_light = np.array([fine.surface_names[s] == "light" for s in fine.surface])
+    (k_light,) = np.flatnonzero(scene.surface == scene.surface_names.index("light"))
+    light, a_light = scene.polygons[k_light], float(scene.areas[k_light])
+    polys = fine.polygons
+    others = np.flatnonzero(~is_light)
+    f_light = _light_row(light, polys, others, args.tol)
+    t2 = time.perf_counter()
+    f_to_light = np.full(len(fine), np.nan)
+    f_to_light[others] = a_light * f_light / fine.areas[others]
+    check = abs(f_light.sum() - surf.row_sums[surf.names.index("light")])
+    print(f"Light row on {len(fine)} patches (edges <= {args.refine:g} mm): sum {f_light.sum():.8f}, "
+          f"differs from the surface row by {check:.1e} (additivity) ({t2 - t1:.1f} s)")
+    image = render(polys, f_to_light, eye=(278.0, 273.0, -800.0), look=(0.0, 0.0, 1.0), up=(0.0, 1.0, 0.0),
+                   fov_deg=39.3, size=args.size)
+    out = os.path.abspath(args.output)
+    write_png(out, image)
+    lo, hi = value_range(f_to_light)
+    print(f"wrote {out}: every patch coloured by its form factor to the light (colour bar on the right, "
+          f"log scale {10**lo:.1e} .. {10**hi:.1e}; darkest = smaller or 0, i.e. in shadow; the light grey)")
     return 0
+
+
+def _light_row(light, polys, others, tol):
+    """F(light -> patch) for each patch in ``others``, every other patch an obstacle; both
+    cores busy (the core releases the GIL)."""
+    import os
+    from concurrent.futures import ThreadPoolExecutor
+
+    import numpy as np
+
+    from .api import view_factor
+
+    def one(j):
+        obstacles = [polys[k] for k in others if k != j]
+        return view_factor(light, polys[j], obstacles=obstacles, obstructed_tol=tol)
+
+    with ThreadPoolExecutor(max_workers=os.cpu_count() or 1) as pool:
+        return np.array(list(pool.map(one, others)))
 
 
 def cmd_methods(args) -> int:
@@ -59,19 +116,33 @@ def cmd_methods(args) -> int:
 
 def cmd_matrix(args) -> int:
     import os
+    import shutil
 
-    from .api import form_factors
+    from .api import form_factors, memory_estimate
+    from .io import write_result
+    from .io.writers import MAX_DENSE_ROWS, result_format
     from .scene import Scene
 
+    fmt = result_format(args.output)  # an unknown extension fails before any work
+    opts = _parse_options(args.option)
     scene = Scene.from_file(args.scene)
     if args.refine:
         scene = scene.refined(args.refine)
+    n = len(scene.receivers)
+    if fmt == "csv" and not args.surfaces and n > MAX_DENSE_ROWS:
+        raise ValueError(f"{args.output}: a dense CSV of {n} x {n} values would not fit a text file "
+                         f"(limit {MAX_DENSE_ROWS} rows); write .npz (sparse) or add --surfaces")
     partial = args.output + ".partial"
     if os.path.exists(partial) and not args.resume:
         raise ValueError(f"{partial} holds an interrupted run: add --resume to continue it, or remove it")
-    opts = _parse_options(args.option)
-    print(f"{args.scene}: {len(scene)} polygons, {len(scene.receivers)} with rows, "
-          f"{len(scene.surface_names)} surfaces; method {args.method}", file=sys.stderr)
+    need, avail = memory_estimate(n)
+    print(f"{args.scene}: {len(scene)} polygons, {n} with rows, {len(scene.surface_names)} surfaces; "
+          f"method {args.method}", file=sys.stderr)
+    print(f"memory: at most {_gib(need)} for the sparse result (if every pair exchanged radiation)"
+          + (f", {_gib(avail)} available" if avail else ""), file=sys.stderr)
+    if avail and need > avail:
+        print("nusselt: warning: the result may not fit in memory if most pairs see each other; "
+              "--threshold drops small entries", file=sys.stderr)
     res = form_factors(
         scene,
         method=args.method,
@@ -79,19 +150,49 @@ def cmd_matrix(args) -> int:
         checkpoint=partial,
         resume=args.resume,
         block_size=args.block_size,
+        threshold=args.threshold,
         **opts,
     )
+    if args.correct:
+        res = _corrected(res, closure=args.correct == "closure")
     if args.surfaces:
+        patch_level = res.trust()
         res = res.by_surface()
-    from .io import write_result
-
+        res.info["patch_level"] = patch_level
+    res.info.update(res.trust())
     write_result(args.output, res, scene=scene, to_surface=args.to_surface)
-    import shutil
-
     shutil.rmtree(partial, ignore_errors=True)
-    print(res.summary() if len(res) <= 12 else "\n".join(res.summary().splitlines()[:2]))
+    print(res.summary())
     print(f"written {args.output}")
     return 0
+
+
+def _gib(b: float) -> str:
+    return f"{b / 2**30:.2f} GiB" if b >= 2**28 else f"{b / 2**20:.1f} MiB"
+
+
+def _corrected(res, *, closure: bool):
+    """The weighted least-squares correction (nusselt.correct) applied to a result."""
+    import dataclasses
+
+    from .correct import correct
+    from .methods import METHODS
+
+    if res.std_err is None and METHODS[res.method].kind == "pairs":
+        print(f"nusselt: --correct: nothing to do, method {res.method!r} computes every pair once "
+              "(reciprocity is exact) and reports no statistical error", file=sys.stderr)
+        return res
+    if closure and res.lost is not None and len(res.lost) and res.lost.max() > 1e-2:
+        k = int(res.lost.argmax())
+        raise ValueError(f"--correct closure needs a closed enclosure, but row {res.names[k]} leaves "
+                         f"{res.lost[k]:.3g} of its hemisphere unassigned (rays escaped); use --correct reciprocity")
+    before = (res.closure_error, res.reciprocity_error)
+    fixed = correct(res.matrix, res.areas, res.std_err, closure=closure)
+    out = dataclasses.replace(res, matrix=fixed, info={**res.info, "corrected": "closure" if closure else "reciprocity"})
+    print(f"corrected ({'reciprocity and closure' if closure else 'reciprocity'}): max |row sum - 1| "
+          f"{before[0]:.2e} -> {out.closure_error:.2e}, reciprocity error {before[1]:.2e} -> "
+          f"{out.reciprocity_error:.2e}", file=sys.stderr)
+    return out
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -102,17 +203,47 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--version", action="version", version=f"nusselt {__version__}")
     sub = p.add_subparsers(dest="command", required=True)
 
-    d = sub.add_parser("demo", help="compute and print the bundled Cornell box")
+    d = sub.add_parser(
+        "demo",
+        help="the bundled Cornell box with two blocks: form factors and a PNG of F to the light",
+        description="Computes the form factors of the bundled Cornell box with its two blocks (obstructed, "
+        "method auto), prints them per surface, and writes a PNG of the box with every patch coloured by "
+        "its form factor to the light.",
+    )
+    d.add_argument("-o", "--output", default="cornell_box.png", help="PNG to write (default: %(default)s)")
+    d.add_argument("--refine", type=float, default=60.0, metavar="MM",
+                   help="patch edge length for the picture, mm (default: %(default)s)")
+    d.add_argument("--tol", type=float, default=1e-4,
+                   help="relative accuracy target of obstructed pairs (default: %(default)s)")
+    d.add_argument("--size", type=int, default=512, help="image size in pixels (default: %(default)s)")
     d.set_defaults(func=cmd_demo)
 
-    m = sub.add_parser("matrix", help="compute the form-factor matrix of a scene file")
-    m.add_argument("scene", help="scene file: .obj, .vs3 or any mesh format meshio reads")
+    m = sub.add_parser(
+        "matrix",
+        help="compute the form-factor matrix of a scene file",
+        description="Computes F[i, j] (row = source) for every pair of polygons of a scene file and writes "
+        "it in the format given by the output's extension. Finished row blocks are kept in OUTPUT.partial "
+        "while the run goes on, so an interrupted run continues with --resume and loses no finished work.",
+        epilog="output formats: .npz (sparse matrix, areas, names, row sums, errors; read it with "
+        "nusselt.io.load_npz), .csv (dense table), .txt (View3D text output), .idf (EnergyPlus "
+        "ZoneProperty:UserViewFactors:BySurfaceName, per surface), .vtu (ParaView: per-cell area, row sum, "
+        "and F to --to-surface). Exit status: 0 done, 2 bad input or error, 130 interrupted.",
+    )
+    m.add_argument("scene", help="scene file: .obj, .vs3 (View3D) or any mesh format meshio reads")
     m.add_argument("-o", "--output", required=True, help="output file (.npz, .csv, .txt View3D, .idf, .vtu)")
-    m.add_argument("--method", default="auto", help="method name (see `nusselt methods`)")
-    m.add_argument("--surfaces", action="store_true", help="aggregate to named surfaces")
-    m.add_argument("--option", action="append", metavar="NAME=VALUE", help="method option, repeatable")
+    m.add_argument("--method", default="auto", help="method name (default: %(default)s; see `nusselt methods`)")
+    m.add_argument("--surfaces", action="store_true",
+                   help="aggregate to named surfaces (additivity over receivers, area-weighted sources)")
+    m.add_argument("--option", action="append", metavar="NAME=VALUE",
+                   help="method option, repeatable (e.g. --option obstructed_tol=1e-4; see `nusselt methods`)")
     m.add_argument("--refine", type=float, metavar="LENGTH",
                    help="split polygons into patches with edges no longer than LENGTH (scene units)")
+    m.add_argument("--threshold", type=float, default=0.0, metavar="F",
+                   help="sparse threshold: drop pairs with F_ij < F and F_ji < F (default 0: keep every nonzero "
+                   "entry; reciprocity is kept); the largest row mass dropped is reported and stored")
+    m.add_argument("--correct", choices=["reciprocity", "closure"],
+                   help="weighted least-squares correction of sampled results: enforce reciprocity "
+                   "(and, with 'closure', row sums of 1: closed enclosures only); exact entries never change")
     m.add_argument("--resume", action="store_true",
                    help="continue an interrupted run from OUTPUT.partial (finished blocks are kept)")
     m.add_argument("--block-size", type=int, default=2_000_000, metavar="N",
@@ -121,7 +252,8 @@ def build_parser() -> argparse.ArgumentParser:
     m.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
     m.set_defaults(func=cmd_matrix)
 
-    ms = sub.add_parser("methods", help="list the methods and their options")
+    ms = sub.add_parser("methods", help="list the methods and their options",
+                        description="Lists every method with its options and defaults.")
     ms.set_defaults(func=cmd_methods)
     return p
 
@@ -133,8 +265,9 @@ def main(argv: list[str] | None = None) -> int:
     except KeyboardInterrupt:
         print("nusselt: interrupted", file=sys.stderr)
         return 130
-    except (ValueError, TypeError, OSError) as e:
-        print(f"nusselt: error: {e}", file=sys.stderr)
+    except (ValueError, TypeError, OSError, MemoryError) as e:
+        msg = " ".join(str(e).split()) or type(e).__name__  # one line
+        print(f"nusselt: error: {msg}", file=sys.stderr)
         return 2
 
 

@@ -36,11 +36,14 @@ def render(
     fov_deg: float = 39.3,
     size: int = 512,
     log: bool = True,
+    decades: float = 3.0,
     background=(0.08, 0.08, 0.1),
 ) -> np.ndarray:
     """Renders polygons (list of (n, 3) arrays, convex) coloured by ``values`` (one per polygon,
-    NaN = grey) as seen by a pinhole camera. Returns an (size, size + bar, 3) uint8 image with a
-    colour bar on the right (low values at the bottom)."""
+    NaN = grey) as seen by a pinhole camera. With ``log`` the colour scale spans ``decades``
+    decades below the largest value; smaller values and zeros get the darkest colour (see
+    :func:`value_range`). Returns an (size, size + bar, 3) uint8 image with a colour bar on
+    the right (low values at the bottom)."""
     eye = np.asarray(eye, float)
     fwd = np.asarray(look, float) / np.linalg.norm(look)
     right = np.cross(fwd, up)
@@ -49,13 +52,12 @@ def render(
     f = 0.5 * size / np.tan(np.radians(fov_deg) / 2)
 
     vals = np.asarray(values, float)
-    ok = np.isfinite(vals) & (vals > 0 if log else True)
+    ok = np.isfinite(vals)
+    lo, hi = value_range(vals, log=log, decades=decades)
     if log:
-        lo, hi = (np.log10(vals[ok].min()), np.log10(vals[ok].max())) if ok.any() else (0.0, 1.0)
-        t = (np.log10(np.where(ok, vals, 1.0)) - lo) / max(hi - lo, 1e-12)
+        t = (np.log10(np.maximum(np.where(ok, vals, hi), 10.0**lo)) - lo) / max(hi - lo, 1e-12)
     else:
-        lo, hi = (vals[ok].min(), vals[ok].max()) if ok.any() else (0.0, 1.0)
-        t = (vals - lo) / max(hi - lo, 1e-12)
+        t = (np.where(ok, vals, hi) - lo) / max(hi - lo, 1e-12)
     colours = np.where(ok[:, None], colormap(t), 0.35)
 
     img = np.empty((size, size, 3))
@@ -79,6 +81,22 @@ def render(
     gap[:] = background
     out = np.concatenate([img, gap, strip], axis=1)
     return (np.clip(out, 0, 1) * 255 + 0.5).astype(np.uint8)
+
+
+def value_range(values, *, log: bool = True, decades: float = 3.0) -> tuple[float, float]:
+    """The colour scale (lo, hi) that :func:`render` uses: log10 of the values when ``log``,
+    from ``decades`` below the largest value (or the smallest positive one, if larger)."""
+    v = np.asarray(values, float)
+    v = v[np.isfinite(v)]
+    if log:
+        pos = v[v > 0]
+        if not pos.size:
+            return 0.0, 1.0
+        hi = float(np.log10(pos.max()))
+        return max(float(np.log10(pos.min())), hi - decades), hi
+    if not v.size:
+        return 0.0, 1.0
+    return float(v.min()), float(v.max())
 
 
 def _fill_triangle(img, zbuf, px, py, x, y, invz, col):

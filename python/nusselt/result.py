@@ -102,12 +102,46 @@ class FormFactors:
         matrix = fs if sp.issparse(self.matrix) else fs.toarray()
         return FormFactors(matrix, a, names, used, self.method, None, None, std, lost, dict(self.info))
 
+    @property
+    def max_std_err(self) -> float | None:
+        """The largest standard error of an entry (sampling methods), else None."""
+        if self.std_err is None:
+            return None
+        s = self.std_err
+        return float(s.max()) if (s.nnz if sp.issparse(s) else np.size(s)) else 0.0
+
+    def trust(self) -> dict:
+        """The error measures as a dict (stored with the result by ``nusselt matrix``):
+        closure error, reciprocity error, row-sum range, largest standard error, and the
+        largest hemisphere fraction a row method left unassigned."""
+        rs = self.row_sums
+        out = {
+            "closure_error": self.closure_error,
+            "reciprocity_error": self.reciprocity_error,
+            "row_sum_min": float(rs.min()) if len(rs) else 0.0,
+            "row_sum_max": float(rs.max()) if len(rs) else 0.0,
+        }
+        if self.std_err is not None:
+            out["max_std_err"] = self.max_std_err
+        if self.lost is not None:
+            out["max_lost"] = float(np.max(self.lost)) if len(self.lost) else 0.0
+        return out
+
     def summary(self) -> str:
         """A readable table (small results) or summary statistics (large ones)."""
+        rs = self.row_sums
         lines = [
-            f"{len(self)} x {len(self)} form factors, method {self.method!r}",
-            f"max |row sum - 1| = {self.closure_error:.3e}   reciprocity error = {self.reciprocity_error:.3e}",
+            f"{len(self)} x {len(self)} form factors, method {self.method!r}, {_nnz(self.matrix)} nonzero",
+            f"max |row sum - 1| = {self.closure_error:.3e}   reciprocity error = {self.reciprocity_error:.3e}"
+            + (f"   row sums {rs.min():.6f} .. {rs.max():.6f}" if len(rs) else ""),
         ]
+        if self.std_err is not None:
+            lines.append(f"largest standard error of an entry = {self.max_std_err:.3e}")
+        if self.lost is not None and len(self.lost):
+            lines.append(f"largest unassigned hemisphere fraction of a row = {np.max(self.lost):.3e}")
+        if self.info.get("dropped"):
+            lines.append(f"largest row mass dropped by the threshold {self.info.get('threshold'):g} = "
+                         f"{self.info['dropped']:.3e}")
         if len(self) <= 12:
             f = self.dense()
             w = max(8, max(len(n) for n in self.names))
@@ -117,6 +151,10 @@ class FormFactors:
                 row = "".join(f"{x:11.6f}" for x in f[i])
                 lines.append(f"{n:<{w}} {self.areas[i]:11.5g}{row}{f[i].sum():10.6f}")
         return "\n".join(lines)
+
+
+def _nnz(m) -> int:
+    return int(m.nnz) if sp.issparse(m) else int(np.count_nonzero(m))
 
 
 def _as_sparse(m):

@@ -16,7 +16,7 @@ use crate::geometry::{clip_to_halfspace, Polygon, Vec3};
 use crate::method::{self, Method, RuleCache};
 use crate::quadrature::AreaRule;
 use crate::sampling::{hash_seed, sobol4, PolygonSampler};
-use crate::visibility::shadow::point_visible_view_factor;
+use crate::visibility::shadow::{point_shadowed_view_factor, point_visible_view_factor};
 use crate::visibility::Visibility;
 use std::f64::consts::PI;
 
@@ -238,19 +238,25 @@ pub fn pair(ctx: &Context, i: usize, j: usize, m: VisMethod, o: &VisOptions) -> 
             Estimate::exact(g)
         }
         VisMethod::Clipping | VisMethod::Auto => {
-            let f = |x: Vec3| point_visible_view_factor(x, a.normal(), b, &blockers);
             match o.clip_source {
                 None => {
+                    // G = G_free - (integral of the shadowed part): the exact kernel handles
+                    // touching pairs, the adaptive rule refines along shadows only.
                     // Relative target: blocked F <= unobstructed F, so an error of tol * G_free
                     // is also within tol absolute, and small (distant) pairs cost little.
                     let free = exact()?;
                     if free <= 0.0 {
                         return Ok(Estimate::exact(0.0));
                     }
+                    let shadowed = |x: Vec3| point_shadowed_view_factor(x, a.normal(), b, &blockers);
                     let start = split_at_kinks(sa, b, &blockers);
-                    Estimate::exact(adaptive_over_source(&start, &f, o.tol * free, o))
+                    let hidden = adaptive_over_source(&start, &shadowed, o.tol * free, o);
+                    Estimate::exact((free - hidden).clamp(0.0, free))
                 }
-                Some(k) => Estimate::exact(source_points(sa, k).into_iter().map(|(x, w)| w * f(x)).sum()),
+                Some(k) => {
+                    let f = |x: Vec3| point_visible_view_factor(x, a.normal(), b, &blockers);
+                    Estimate::exact(source_points(sa, k).into_iter().map(|(x, w)| w * f(x)).sum())
+                }
             }
         }
     })

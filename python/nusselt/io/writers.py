@@ -387,6 +387,8 @@ def write_result(path, result, *, format: str | None = None, scene=None, to_surf
 
     if fmt == "npz":
         extra = {}
+        m = _get(result, "matrix")
+        extra["row_sums"] = np.asarray(m.sum(axis=1)).ravel()
         for key in ("faces", "surface", "lost", "std_err"):
             v = _get(result, key)
             if v is not None:

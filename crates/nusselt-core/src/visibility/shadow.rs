@@ -41,8 +41,24 @@ const NEAR_P: f64 = 1e-9;
 /// 4. subtract the union of all shadows (non-zero fill, all made counter-clockwise) from the
 ///    receiver.
 pub fn visible_part(p: Vec3, n: Vec3, receiver: &Polygon, blockers: &[&Polygon]) -> Vec<Vec<Vec3>> {
+    match visible(p, n, receiver, blockers) {
+        Visible::Nothing => Vec::new(),
+        Visible::Whole(rec) => vec![rec],
+        Visible::Parts { contours, .. } => contours,
+    }
+}
+
+/// What [`visible`] found: nothing in view, the (clipped) receiver without any shadow on it,
+/// or the contours left after subtracting the shadows from it.
+enum Visible {
+    Nothing,
+    Whole(Vec<Vec3>),
+    Parts { rec: Vec<Vec3>, contours: Vec<Vec<Vec3>> },
+}
+
+fn visible(p: Vec3, n: Vec3, receiver: &Polygon, blockers: &[&Polygon]) -> Visible {
     if !p.is_finite() || !n.is_finite() || n == Vec3::ZERO {
-        return Vec::new();
+        return Visible::Nothing;
     }
     let n = n.normalize();
     let nr = receiver.normal();
@@ -52,12 +68,12 @@ pub fn visible_part(p: Vec3, n: Vec3, receiver: &Polygon, blockers: &[&Polygon])
     let scale = r + (p - c).length();
     let tol = 1e-13 * scale;
     if h_p <= tol {
-        return Vec::new();
+        return Visible::Nothing;
     }
     let mut rec = Vec::with_capacity(receiver.vertices().len() + 2);
     clip_to_halfspace(receiver.vertices(), p, n, tol, &mut rec);
     if rec.len() < 3 || newell_normal(&rec).dot(nr) <= 1e-14 * r * r {
-        return Vec::new();
+        return Visible::Nothing;
     }
     let (tu, tv) = tangent_frame(nr);
     let to2d = |x: Vec3| -> [f64; 2] {
@@ -129,7 +145,7 @@ pub fn visible_part(p: Vec3, n: Vec3, receiver: &Polygon, blockers: &[&Polygon])
         shadows.push(s);
     }
     if shadows.is_empty() {
-        return vec![rec];
+        return Visible::Whole(rec);
     }
     let result = rec2.overlay_as::<i64>(&shadows, OverlayRule::Difference, FillRule::NonZero);
     let mut out = Vec::new();
@@ -140,7 +156,7 @@ pub fn visible_part(p: Vec3, n: Vec3, receiver: &Polygon, blockers: &[&Polygon])
             }
         }
     }
-    out
+    Visible::Parts { rec, contours: out }
 }
 
 /// Exact view factor from the differential area at `p` (unit normal `n`) to the part of
@@ -153,6 +169,25 @@ pub fn point_visible_view_factor(p: Vec3, n: Vec3, receiver: &Polygon, blockers:
     }
     let n = n.normalize();
     visible_part(p, n, receiver, blockers).iter().map(|c| crate::analytic::point_contour(p, n, c)).sum()
+}
+
+/// The part of the unobstructed point view factor that the blockers hide: Lambert's formula
+/// over the clipped receiver minus [`point_visible_view_factor`], and exactly 0 wherever no
+/// shadow is cast. Integrating this over a source and subtracting it from the exact
+/// unobstructed F puts the adaptive effort on the shadows only: where a pair touches (shared
+/// edge or vertex) the visible F varies steeply but the shadowed part is usually 0.
+pub fn point_shadowed_view_factor(p: Vec3, n: Vec3, receiver: &Polygon, blockers: &[&Polygon]) -> f64 {
+    if !p.is_finite() || !n.is_finite() || n == Vec3::ZERO {
+        return f64::NAN;
+    }
+    let n = n.normalize();
+    match visible(p, n, receiver, blockers) {
+        Visible::Nothing | Visible::Whole(_) => 0.0,
+        Visible::Parts { rec, contours } => {
+            let lit: f64 = contours.iter().map(|c| crate::analytic::point_contour(p, n, c)).sum();
+            (crate::analytic::point_contour(p, n, &rec) - lit).max(0.0)
+        }
+    }
 }
 
 

@@ -352,3 +352,24 @@ fn bench_visible() {
     }
     println!("no blockers: {:.2} us/call", t.elapsed().as_secs_f64() / n as f64 * 1e6);
 }
+
+#[test]
+fn shadowed_part_is_free_minus_visible_and_zero_without_shadow() {
+    let f = floor();
+    let up = Vec3::new(0.0, 0.0, 1.0);
+    // Blocker over the half x < 0.5 of the floor, the point above the floor's centre.
+    let half = rect(2, 0.5, (0., 0.5), (0., 1.), true);
+    let b = [&half];
+    let free = f_plain(P, DOWN, &f);
+    let vis = f_vis(P, DOWN, &f, &b);
+    let hid = point_shadowed_view_factor(P, DOWN, &f, &b);
+    assert!((hid - (free - vis)).abs() < 1e-14, "{hid} {free} {vis}");
+    assert!((hid - 0.5 * free).abs() < 1e-12, "symmetric: half hidden");
+    // A blocker off to the side, between nothing: exactly 0, not a rounding residue.
+    let aside = rect(2, 0.5, (3., 4.), (3., 4.), true);
+    assert_eq!(point_shadowed_view_factor(P, DOWN, &f, &[&aside]), 0.0);
+    assert_eq!(point_shadowed_view_factor(P, DOWN, &f, &[]), 0.0);
+    // Point behind the receiver: nothing visible, nothing hidden.
+    assert_eq!(point_shadowed_view_factor(Vec3::new(0.5, 0.5, -1.0), up, &f, &b), 0.0);
+    assert!(point_shadowed_view_factor(Vec3::NAN, DOWN, &f, &b).is_nan());
+}
