@@ -61,3 +61,15 @@ def test_scene_errors_name_the_face():
         nusselt.Scene(np.zeros((4, 3)), [[0, 1, 9]])
     with pytest.raises(TypeError):
         nusselt.form_factors("not a scene")
+
+
+@pytest.mark.slow
+def test_cube_32_acceptance():
+    # Issue acceptance: 6144 patches; row sums to 1e-10, reciprocity 1e-12, face sums to 1e-10.
+    polys, face = cube_faces(32)
+    scene = nusselt.Scene.from_polygons(polys, surface=[f"side{k}" for k in face])
+    res = nusselt.form_factors(scene)
+    assert res.closure_error <= 1e-10
+    assert res.reciprocity_error <= 1e-12
+    f = res.by_surface().dense()
+    assert np.abs(f[0, 1] - C11) <= 1e-10 and np.abs(f[0, 2] - C14) <= 1e-10

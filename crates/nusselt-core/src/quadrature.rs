@@ -14,16 +14,19 @@ use std::sync::OnceLock;
 /// Largest tabulated Gauss order.
 pub const MAX_ORDER: usize = 64;
 
+/// Rules are computed on first use, one order at a time: the high orders (Newton iterations on
+/// Jacobi polynomials) cost far more than the low ones that distant pairs need, and a process
+/// that never asks for them should not pay for them.
 struct Tables {
-    legendre: Vec<Vec<(f64, f64)>>,
-    jacobi10: Vec<Vec<(f64, f64)>>,
+    legendre: Vec<OnceLock<Vec<(f64, f64)>>>,
+    jacobi10: Vec<OnceLock<Vec<(f64, f64)>>>,
 }
 
 fn tables() -> &'static Tables {
     static T: OnceLock<Tables> = OnceLock::new();
     T.get_or_init(|| Tables {
-        legendre: (1..=MAX_ORDER).map(legendre_rule).collect(),
-        jacobi10: (1..=MAX_ORDER).map(jacobi10_rule).collect(),
+        legendre: (0..MAX_ORDER).map(|_| OnceLock::new()).collect(),
+        jacobi10: (0..MAX_ORDER).map(|_| OnceLock::new()).collect(),
     })
 }
 
@@ -33,7 +36,7 @@ fn tables() -> &'static Tables {
 /// [`try_gauss_legendre`] for values that come from users.
 pub fn gauss_legendre(n: usize) -> &'static [(f64, f64)] {
     assert!((1..=MAX_ORDER).contains(&n), "gauss_legendre: n = {n} is outside 1..={MAX_ORDER}");
-    &tables().legendre[n - 1]
+    tables().legendre[n - 1].get_or_init(|| legendre_rule(n))
 }
 
 /// Checked [`gauss_legendre`].
@@ -53,7 +56,7 @@ fn check_order(n: usize, what: &str) -> Result<()> {
 /// Gauss-Jacobi rule for the weight (1 - u) on [0, 1] (α = 1, β = 0 on [-1, 1]): exact for
 /// ∫_0^1 (1 - u) p(u) du with deg p <= 2n - 1. Used in the collapsed triangle rule.
 fn gauss_jacobi10(n: usize) -> &'static [(f64, f64)] {
-    &tables().jacobi10[n - 1]
+    tables().jacobi10[n - 1].get_or_init(|| jacobi10_rule(n))
 }
 
 /// Legendre P_n(x) and P_n'(x) by the three-term recurrence
