@@ -138,7 +138,7 @@ def notes(res, ref_dense=None):
 
 def print_table(header, rows):
     print("| " + " | ".join(header) + " |")
-    print("|" + "|".join("---" if i < 2 else "---:" for i in range(len(header))) + "|")
+    print("|" + "|".join("---" if i < 2 or i == len(header) - 1 else "---:" for i in range(len(header))) + "|")
     for r in rows:
         print("| " + " | ".join(r) + " |")
     print(flush=True)
@@ -187,11 +187,12 @@ def accuracy(n, sweeps, auto_tols, ref_tol):
     return points, t_ref, Rs
 
 
-def throughput(n, refine, Rs, auto_refine, auto_limit):
+def throughput(n, refine, Rs, auto_room, auto_limit):
     base = room_scene(n)
     scene = base.refined(1.0 / refine) if refine > 1 else base
     N = len(scene)
-    print(f"## Throughput: room_with_crate({n}).refined(1/{refine}), {N} patches, default settings\n", flush=True)
+    print(f"## Throughput: room_with_crate({n}).refined(max_edge=1/{refine}), {N} patches, default settings\n",
+          flush=True)
     header = ["method", "patches", "wall s", "rows/s", "max abs err (surface)", "max abs(row sum - 1)", "notes"]
     rows = []
     for method in DEFAULTS:
@@ -203,15 +204,16 @@ def throughput(n, refine, Rs, auto_refine, auto_limit):
         print(f"  {method}: {dt:.1f} s", flush=True)
         del res
     # auto: all pairs, O(N^2); it cannot run on a subset of rows, so it runs on the largest
-    # refinement of the same room that finishes in about auto_limit seconds (chosen beforehand)
-    a_scene = base.refined(1.0 / auto_refine) if auto_refine > 1 else base
+    # room (finer walls, the same crate) that finishes in about auto_limit seconds (chosen beforehand)
+    a_scene = room_scene(auto_room)
     t0 = time.perf_counter()
     res = nusselt.form_factors(a_scene, method="auto")
     dt = time.perf_counter() - t0
     es = np.abs(res.by_surface().dense() - Rs).max()
     rows.append(["auto (obstructed_tol=1e-6)", f"{len(a_scene)}", f"{dt:.1f}", f"{len(a_scene) / dt:.1f}", f"{es:.2e}",
                  f"{res.closure_error:.1e}",
-                 f"largest refinement (1/{auto_refine}) that finishes in ~{auto_limit:.0f} s; not run on {N} patches"])
+                 f"room_with_crate({auto_room}): the largest room that finishes in ~{auto_limit:.0f} s; "
+                 f"not run on {N} patches"])
     print(f"  auto on {len(a_scene)} patches: {dt:.1f} s\n", flush=True)
     print_table(header, rows)
 
@@ -325,23 +327,23 @@ FULL = dict(
     },
     auto_tols=(1e-3, 1e-4, 1e-6),
     ref_tol=1e-6,
-    refine=6,        # 21 x 21 per wall... see the printed patch count
-    auto_refine=2,
+    refine=6,        # 18 x 18 quads per wall, 6 x 6 per crate face: 2160 patches
+    auto_room=5,
     auto_limit=120,
 )
 
 QUICK = dict(
-    n=2,
+    n=1,
     sweeps={
         "hemicube": [{"resolution": r} for r in (16, 32)],
-        "single-plane": [{"min_cell": 1 / c} for c in (4, 8)],
+        "single-plane": [{"min_cell": 1 / c} for c in (2, 4)],
         "raytrace": [{"rays": r} for r in (256, 1024)],
         "nusselt": [{"cells": c} for c in (64, 256)],
     },
     auto_tols=(1e-3, 1e-4),
     ref_tol=1e-4,
-    refine=2,
-    auto_refine=1,
+    refine=1,
+    auto_room=1,
     auto_limit=5,
 )
 
@@ -350,15 +352,15 @@ def main():
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--quick", action="store_true", help="tiny smoke run")
     p.add_argument("--svg", help="where to write the plot (default docs/row-methods.svg; --quick: a temp dir)")
-    p.add_argument("--no-throughput", action="store_true")
-    p.add_argument("--refine", type=int, help="throughput scene: every room/crate quad split k x k")
-    p.add_argument("--auto-refine", type=int, help="auto throughput scene: k x k split")
+    p.add_argument("--no-throughput", action="store_true", help="only the accuracy table and the plot")
+    p.add_argument("--refine", type=int, help="throughput scene: room refined to max_edge 1/K m (K x K per 1 m quad)")
+    p.add_argument("--auto-room", type=int, help="auto throughput scene: room_with_crate(N)")
     a = p.parse_args()
     cfg = dict(QUICK if a.quick else FULL)
     if a.refine:
         cfg["refine"] = a.refine
-    if a.auto_refine:
-        cfg["auto_refine"] = a.auto_refine
+    if a.auto_room:
+        cfg["auto_room"] = a.auto_room
     svg = a.svg or (os.path.join(tempfile.gettempdir(), "row-methods-quick.svg") if a.quick
                     else os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "docs", "row-methods.svg"))
     start = time.perf_counter()
@@ -370,7 +372,7 @@ def main():
                                   f"max abs error vs exact auto, against wall time")
     print(f"plot written to {os.path.normpath(svg)}\n", flush=True)
     if not a.no_throughput:
-        throughput(cfg["n"], cfg["refine"], Rs, cfg["auto_refine"], cfg["auto_limit"])
+        throughput(cfg["n"], cfg["refine"], Rs, cfg["auto_room"], cfg["auto_limit"])
     print(f"total wall time {time.perf_counter() - start:.0f} s")
 
 

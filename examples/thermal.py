@@ -20,7 +20,7 @@ What it shows (for thermal / building engineers):
    ``ZoneProperty:UserViewFactors:BySurfaceName`` object (``.idf``) and View3D's text output
    (``.txt``, with the emissivities of the ``.vs3`` file).
 
-Run (a few seconds):
+Run (about 10 s on two cores):
 
     python examples/thermal.py                    # outputs go to a new temporary directory
     python examples/thermal.py --outdir results   # or to a directory of your choice

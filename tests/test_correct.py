@@ -1,6 +1,7 @@
 """The reciprocity/closure correction: improves noisy estimates, never touches exact entries."""
 
 import numpy as np
+import pytest
 
 from nusselt.correct import correct
 
@@ -47,3 +48,18 @@ def test_exact_entries_are_never_changed():
     c = correct(noisy, np.ones(6), s).toarray()
     assert np.array_equal(c[0], f[0]) and np.array_equal(c[:, 0], f[:, 0])
     assert np.abs(c.sum(1) - 1).max() < 1e-12
+
+
+def test_unsampled_direction_is_not_an_exact_zero():
+    # Row 0 sampled pair (0, 1); row 1 saw nothing of 0 (no ray hit it): no value, no error.
+    areas = np.array([1.0, 4.0, 2.0])
+    f = np.array([[0.0, 0.6, 0.4], [0.0, 0.0, 0.5], [0.2, 1.0, 0.0]])
+    s = np.array([[0.0, 0.05, 0.05], [0.0, 0.0, 0.05], [0.05, 0.05, 0.0]])
+    g = correct(f, areas, s, closure=False).toarray()
+    assert g[0, 1] > 0 and g[1, 0] > 0  # the pair survives, taken from row 0's estimate
+    assert g[0, 1] == pytest.approx(0.6)
+    np.testing.assert_allclose(areas[:, None] * g, (areas[:, None] * g).T, rtol=1e-12)
+    # a nonzero entry with zero error stays exact
+    s[2, 0] = 0.0
+    g = correct(f, areas, s, closure=False).toarray()
+    assert g[2, 0] == pytest.approx(0.2) and g[0, 2] == pytest.approx(0.4)

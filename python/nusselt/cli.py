@@ -123,8 +123,11 @@ def cmd_matrix(args) -> int:
     from .io.writers import MAX_DENSE_ROWS, result_format
     from .scene import Scene
 
+    from .methods import resolve
+
     fmt = result_format(args.output)  # an unknown extension fails before any work
     opts = _parse_options(args.option)
+    resolve(args.method, dict(opts))  # an unknown method or option fails before any work
     scene = Scene.from_file(args.scene)
     if args.refine:
         scene = scene.refined(args.refine)
@@ -143,16 +146,22 @@ def cmd_matrix(args) -> int:
     if avail and need > avail:
         print("nusselt: warning: the result may not fit in memory if most pairs see each other; "
               "--threshold drops small entries", file=sys.stderr)
-    res = form_factors(
-        scene,
-        method=args.method,
-        progress=not args.quiet,
-        checkpoint=partial,
-        resume=args.resume,
-        block_size=args.block_size,
-        threshold=args.threshold,
-        **opts,
-    )
+    try:
+        res = form_factors(
+            scene,
+            method=args.method,
+            progress=not args.quiet,
+            checkpoint=partial,
+            resume=args.resume,
+            block_size=args.block_size,
+            threshold=args.threshold,
+            **opts,
+        )
+    except BaseException:
+        # keep finished blocks for --resume; a run that finished none leaves nothing behind
+        if os.path.isdir(partial) and not any(f.startswith("block_") for f in os.listdir(partial)):
+            shutil.rmtree(partial, ignore_errors=True)
+        raise
     if args.correct:
         res = _corrected(res, closure=args.correct == "closure")
     if args.surfaces:
@@ -185,7 +194,8 @@ def _corrected(res, *, closure: bool):
     if closure and res.lost is not None and len(res.lost) and res.lost.max() > 1e-2:
         k = int(res.lost.argmax())
         raise ValueError(f"--correct closure needs a closed enclosure, but row {res.names[k]} leaves "
-                         f"{res.lost[k]:.3g} of its hemisphere unassigned (rays escaped); use --correct reciprocity")
+                         f"{res.lost[k]:.3g} of its hemisphere unassigned; use --correct reciprocity "
+                         "(with --resume the finished blocks are reused)")
     before = (res.closure_error, res.reciprocity_error)
     fixed = correct(res.matrix, res.areas, res.std_err, closure=closure)
     out = dataclasses.replace(res, matrix=fixed, info={**res.info, "corrected": "closure" if closure else "reciprocity"})

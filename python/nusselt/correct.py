@@ -7,8 +7,10 @@ to the estimates in the weighted least-squares sense,
     minimise  sum_ij (G_ij / A_i - F_ij)^2 / s_ij^2
     subject to G_ij = G_ji,   sum_j G_ij = A_i  (closure, for enclosures only),
 
-with s_ij the standard error of F_ij. Entries with s_ij = 0 are exact: they are never changed,
-so error is never spread into them (plain row normalisation would). Negative results are
+with s_ij the standard error of F_ij. Nonzero entries with s_ij = 0 are exact: they are never
+changed, so error is never spread into them (plain row normalisation would). A zero entry with
+no error is a direction that was not sampled (no ray hit it): the pair then takes the other
+direction's estimate. Negative results are
 pinned to zero and the problem is solved again (a small active-set loop).
 """
 
@@ -44,15 +46,19 @@ def correct(matrix, areas, std_err=None, *, closure: bool = True, max_iter: int 
     pi, pj = pat.row[keep], pat.col[keep]
     fij, fji = _take(f, pi, pj), _take(f, pj, pi)
     sij, sji = _take(s, pi, pj), _take(s, pj, pi)
-    exact = (sij == 0) | (sji == 0)
+    # A side with s = 0 is exact when it has a value; a side with neither value nor error
+    # was simply not sampled (no ray hit it): it carries no information, not an exact 0.
+    exact_ij, exact_ji = (sij == 0) & (fij != 0), (sji == 0) & (fji != 0)
+    exact = exact_ij | exact_ji
     # per pair, the weighted mean of the two estimates of G (exact pairs: the exact side)
     wij, wji = np.zeros(len(pi)), np.zeros(len(pi))
     wij[sij > 0] = 1 / (areas[pi] * sij)[sij > 0] ** 2
     wji[sji > 0] = 1 / (areas[pj] * sji)[sji > 0] ** 2
     g_ij, g_ji = areas[pi] * fij, areas[pj] * fji
-    both = (sij > 0) & (sji > 0)
-    g0 = np.where(sij == 0, g_ij, g_ji)
-    g0[both] = (wij * g_ij + wji * g_ji)[both] / (wij + wji)[both]
+    both = (wij > 0) & (wji > 0)
+    g0 = np.where(exact_ij | (wij > 0), g_ij, g_ji)
+    g0[exact_ji] = g_ji[exact_ji]
+    g0[both & ~exact] = ((wij * g_ij + wji * g_ji) / np.where(both, wij + wji, 1.0))[both & ~exact]
     w = wij + wji  # curvature of the objective in g
     free = ~exact & (w > 0)
     g = g0.copy()
