@@ -20,7 +20,9 @@ from __future__ import annotations
 import argparse
 import math
 import os
+import pathlib
 import platform
+import sys
 import tempfile
 import time
 
@@ -28,41 +30,11 @@ import numpy as np
 
 import nusselt
 
+# The room is the test suite's (one definition for tests and benchmarks).
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[1] / "tests"))
+from test_obstructed import room_with_crate  # noqa: E402
+
 # --------------------------------------------------------------------------- geometry
-
-
-def cube_faces(n=1, size=1.0):
-    """A closed cube [0, size]^3 of 6 n x n quads per face, normals pointing inward.
-    Returns (polygons, face index of each polygon). Copied from tests/conftest.py."""
-    polys, which = [], []
-    t = np.linspace(0.0, size, n + 1)
-    for axis in range(3):
-        for side in (0.0, size):
-            u, w = [a for a in range(3) if a != axis]
-            for a in range(n):
-                for b in range(n):
-                    q = np.zeros((4, 3))
-                    for k, (da, db) in enumerate([(0, 0), (1, 0), (1, 1), (0, 1)]):
-                        q[k, axis] = side
-                        q[k, u] = t[a + da]
-                        q[k, w] = t[b + db]
-                    normal = np.zeros(3)
-                    normal[axis] = 1.0 if side == 0.0 else -1.0
-                    nq = np.cross(q[1] - q[0], q[2] - q[0])
-                    if nq @ normal < 0:
-                        q = q[::-1].copy()
-                    polys.append(q)
-                    which.append(2 * axis + (side > 0))
-    return polys, np.array(which)
-
-
-def room_with_crate(n=3):
-    """Copied from tests/test_obstructed.py: a 3 m room of n x n quads per wall with a
-    floating unit crate (6 patches) inside."""
-    polys, face = cube_faces(n, size=3.0)
-    crate, cface = cube_faces(1, size=1.0)
-    crate = [c[::-1] + np.array([0.8, 0.7, 1.1]) for c in crate]
-    return polys + crate, list(face) + [6 + k for k in cface]
 
 
 WALLS = ["x=0", "x=3", "y=0", "y=3", "z=0", "z=3"]

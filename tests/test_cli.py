@@ -11,6 +11,7 @@ import zlib
 
 import numpy as np
 import pytest
+from conftest import cube_faces
 
 import nusselt
 import nusselt.io as nio
@@ -187,25 +188,13 @@ def test_correct_option_fixes_sampled_rows_and_refuses_open_scenes(tmp_path, cap
 
 def write_cube_obj(path, n):
     """Closed unit cube, n x n quads per face, fronts facing in, one object per face."""
-    g = np.linspace(0.0, 1.0, n + 1)
-    lines, vid = [], 1
-    for axis in range(3):
-        u, w = [k for k in range(3) if k != axis]
-        for side in (0, 1):
-            lines.append(f"o face{axis}{side}")
-            for i in range(n):
-                for j in range(n):
-                    pts = []
-                    for a, b in [(i, j), (i + 1, j), (i + 1, j + 1), (i, j + 1)]:
-                        v = [0.0] * 3
-                        v[axis], v[u], v[w] = float(side), g[a], g[b]
-                        pts.append(v)
-                    nrm = np.cross(np.subtract(pts[1], pts[0]), np.subtract(pts[3], pts[0]))
-                    if nrm[axis] * (1 if side == 0 else -1) < 0:
-                        pts = pts[::-1]
-                    lines += [f"v {float(x)!r} {float(y)!r} {float(z)!r}" for x, y, z in pts]
-                    lines.append(f"f {vid} {vid + 1} {vid + 2} {vid + 3}")
-                    vid += 4
+    polys, face = cube_faces(n)
+    lines = []
+    for k, (p, f) in enumerate(zip(polys, face)):
+        if k == 0 or f != face[k - 1]:
+            lines.append(f"o face{f}")
+        lines += [f"v {x!r} {y!r} {z!r}" for x, y, z in p.tolist()]
+        lines.append("f " + " ".join(str(4 * k + i) for i in range(1, 5)))
     path.write_text("\n".join(lines) + "\n")
 
 

@@ -120,7 +120,7 @@ def cmd_matrix(args) -> int:
 
     from .api import form_factors, memory_estimate
     from .io import write_result
-    from .io.writers import MAX_DENSE_ROWS, result_format
+    from .io.writers import MAX_DENSE_ROWS, _check_size, result_format
     from .scene import Scene
 
     from .methods import resolve
@@ -132,9 +132,8 @@ def cmd_matrix(args) -> int:
     if args.refine:
         scene = scene.refined(args.refine)
     n = len(scene.receivers)
-    if fmt == "csv" and not args.surfaces and n > MAX_DENSE_ROWS:
-        raise ValueError(f"{args.output}: a dense CSV of {n} x {n} values would not fit a text file "
-                         f"(limit {MAX_DENSE_ROWS} rows); write .npz (sparse) or add --surfaces")
+    if fmt == "csv" and not args.surfaces:
+        _check_size(args.output, n, MAX_DENSE_ROWS, "CSV")  # the writer's check, before any work
     partial = args.output + ".partial"
     if os.path.exists(partial) and not args.resume:
         raise ValueError(f"{partial} holds an interrupted run: add --resume to continue it, or remove it")

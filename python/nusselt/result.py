@@ -116,7 +116,7 @@ class FormFactors:
         largest hemisphere fraction a row method left unassigned."""
         rs = self.row_sums
         out = {
-            "closure_error": self.closure_error,
+            "closure_error": float(np.max(np.abs(rs - 1.0))) if len(rs) else 0.0,
             "reciprocity_error": self.reciprocity_error,
             "row_sum_min": float(rs.min()) if len(rs) else 0.0,
             "row_sum_max": float(rs.max()) if len(rs) else 0.0,

@@ -88,21 +88,19 @@ def read_mesh(path: str, format: str | None = None) -> SceneData:
     check_readable(path)
     import meshio
 
-    said = io.StringIO()
     try:
         # meshio prints and warns on some inputs (e.g. ASCII STL); keep our output clean.
         with warnings.catch_warnings(), np.errstate(all="ignore"), \
-                contextlib.redirect_stdout(said), contextlib.redirect_stderr(said):
+                contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()):
             warnings.simplefilter("ignore")
             mesh = meshio.read(path, file_format=format)
     except (OSError, MemoryError):
         raise
     except SystemExit:
-        # meshio's STL reader, having failed both ASCII and binary, calls sys.exit
-        why = " ".join(ln.strip() for ln in said.getvalue().splitlines() if ln.strip() and "Couldn't read" not in ln
-                       and not ln.strip().startswith(("Error:", path)))
+        # meshio's STL reader, having failed both ASCII and binary, prints "Couldn't read" and
+        # calls sys.exit: there is no more detail to pass on
         kind = format or os.path.splitext(path)[1].lstrip(".").upper()
-        raise parse_error(path, None, f"not a valid {kind} file{' (' + why + ')' if why else ''}") from None
+        raise parse_error(path, None, f"not a valid {kind} file") from None
     except meshio.ReadError as e:
         msg = _one_line(e)
         if "Unknown file format" in msg or "Could not deduce" in msg:
