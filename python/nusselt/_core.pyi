@@ -31,6 +31,19 @@ class SceneCore:
         npt.NDArray[np.float64],
     ]: ...
 
+def mirror_pairs(
+    areas: npt.NDArray[np.float64],
+    col_of: npt.NDArray[np.int64],
+    blocks: list[
+        tuple[
+            npt.NDArray[np.int64],
+            npt.NDArray[np.int64],
+            npt.NDArray[np.int64],
+            npt.NDArray[np.float64],
+            npt.NDArray[np.float64] | None,
+        ]
+    ],
+) -> tuple[npt.NDArray[np.int64], npt.NDArray[np.int64], npt.NDArray[np.float64], npt.NDArray[np.float64] | None]: ...
 def view_factor(
     a: npt.NDArray[np.float64],
     b: npt.NDArray[np.float64],

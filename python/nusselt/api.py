@@ -138,28 +138,11 @@ def form_factors(
             bar.close()
 
     areas = scene.areas[recv]
-    r = np.concatenate([np.repeat(col_of[b.rows], np.diff(b.indptr)) for b in done]) if done else np.zeros(0, int)
-    c = np.concatenate([col_of[b.indices] for b in done]) if done else np.zeros(0, int)
-    v = np.concatenate([b.data for b in done]) if done else np.zeros(0)
     std = lost = None
-    sd = np.concatenate([b.std for b in done]) if done else np.zeros(0)
     if kind == "pairs":
-        # G is symmetric: mirror the upper triangle, then F = G / A_row.
-        if np.any(sd != 0):
-            std = sp.csr_array(
-                (np.concatenate([sd / areas[r], sd / areas[c]]), (np.concatenate([r, c]), np.concatenate([c, r]))),
-                shape=(nr, nr),
-            )
-        r, c, v = np.concatenate([r, c]), np.concatenate([c, r]), np.concatenate([v / areas[r], v / areas[c]])
+        matrix, std = _assemble_pairs(done, col_of, areas)
     else:
-        if sd.size and not np.all(np.isnan(sd)):
-            std = sp.csr_array((np.nan_to_num(sd), (r, c)), shape=(nr, nr))
-        if done and done[0].lost is not None:
-            lost = np.zeros(nr)
-            lost[col_of[np.concatenate([b.rows for b in done])]] = np.concatenate([b.lost for b in done])
-    matrix = sp.csr_array((v, (r, c)), shape=(nr, nr))
-    matrix.sum_duplicates()
-    matrix.sort_indices()
+        matrix, std, lost = _assemble_rows(done, col_of, nr)
     dropped = 0.0
     if threshold > 0.0:
         # Drop a pair only when both directions are small, so reciprocity still holds.
@@ -184,6 +167,52 @@ def form_factors(
         lost=lost,
         info={"options": opts, "threshold": threshold, "dropped": dropped},
     )
+
+
+def _stack_blocks(done: list, col_of: np.ndarray, nr: int):
+    """The blocks' CSR parts as one CSR over receiver indices (rows given once each)."""
+    counts = np.zeros(nr, dtype=np.int64)
+    if done:
+        counts[col_of[np.concatenate([b.rows for b in done])]] = np.concatenate([np.diff(b.indptr) for b in done])
+    indptr = np.zeros(nr + 1, dtype=np.int64)
+    np.cumsum(counts, out=indptr[1:])
+    idx = col_of[np.concatenate([b.indices for b in done])] if done else np.zeros(0, np.int64)
+    data = np.concatenate([b.data for b in done]) if done else np.zeros(0)
+    sd = np.concatenate([b.std for b in done]) if done else np.zeros(0)
+    return indptr, idx, data, sd
+
+
+def _canonical_csr(data, idx, indptr, nr):
+    m = sp.csr_array((data, idx, indptr), shape=(nr, nr))
+    m.has_sorted_indices = True
+    m.has_canonical_format = True
+    return m
+
+
+def _assemble_pairs(done, col_of, areas):
+    """Pair methods return the upper triangle of the symmetric G = A_i F_ij: the core mirrors
+    it and divides each row by its area in one pass (F_ij = G_ij / A_i, F_ji = G_ij / A_j)."""
+    nr = len(areas)
+    blocks = [(b.rows, b.indptr, b.indices, b.data, b.std) for b in done]
+    indptr, idx, f, sd = _core.mirror_pairs(np.ascontiguousarray(areas, dtype=np.float64), col_of, blocks)
+    matrix = _canonical_csr(f, idx, indptr, nr)
+    std = _canonical_csr(sd, idx.copy(), indptr.copy(), nr) if sd is not None else None
+    return matrix, std
+
+
+def _assemble_rows(done, col_of, nr):
+    """Row methods return whole rows F_i. (with standard errors and lost fractions)."""
+    indptr, idx, v, sd = _stack_blocks(done, col_of, nr)
+    matrix = sp.csr_array((v, idx, indptr), shape=(nr, nr))
+    matrix.sort_indices()  # row methods return rows sorted; this only checks
+    std = lost = None
+    if sd.size and not np.all(np.isnan(sd)):
+        std = sp.csr_array((np.nan_to_num(sd), idx, indptr), shape=(nr, nr))
+        std.sort_indices()
+    if done and done[0].lost is not None:
+        lost = np.zeros(nr)
+        lost[col_of[np.concatenate([b.rows for b in done])]] = np.concatenate([b.lost for b in done])
+    return matrix, std, lost
 
 
 def memory_estimate(n: int, dense: bool = False) -> tuple[int, int | None]:

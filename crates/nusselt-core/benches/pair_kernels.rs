@@ -9,6 +9,7 @@ use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Through
 use glam::DVec3 as V;
 use nusselt_core::geometry::Polygon;
 use nusselt_core::method::{self, Method, Options};
+use nusselt_core::quadrature::{self, AreaRule, PackedRule};
 use nusselt_core::{analytic, contour};
 use std::hint::black_box;
 
@@ -51,6 +52,30 @@ fn pair_kernels(c: &mut Criterion) {
                 bch.iter(|| method::area_factor(black_box(a), black_box(b), Method::Auto, &opts, None).unwrap())
             });
         }
+        for tol in [1e-6, 1e-10] {
+            // as in a scene: the polygons' rules are built once and reused by every pair
+            let opts = Options { tol, ..Default::default() };
+            let cache = method::RuleCache::new(2);
+            g.bench_with_input(BenchmarkId::new(format!("auto{tol:e} cached"), name), &(&a, &b), |bch, (a, b)| {
+                bch.iter(|| method::area_factor(black_box(a), black_box(b), Method::Auto, &opts, Some((&cache, 0, 1))).unwrap())
+            });
+        }
+    }
+    g.finish();
+    // the far-field kernel alone, per Gauss order on both quads (order^4 point pairs)
+    let mut g = c.benchmark_group("far_pair");
+    let (a, b) = (&cases()[0].1, &cases()[0].2);
+    for order in [1, 2, 3, 4, 5, 6, 8] {
+        let pa = PackedRule::new(&AreaRule::new(a, order), a);
+        let pb = PackedRule::new(&AreaRule::new(b, order), b);
+        g.throughput(Throughput::Elements((order * order * order * order) as u64));
+        g.bench_with_input(BenchmarkId::new("quad-quad order", order), &(&pa, &pb), |bch, (pa, pb)| {
+            bch.iter(|| quadrature::far_pair(black_box(pa), a.normal(), black_box(pb), b.normal()))
+        });
+        let (ra, rb) = (AreaRule::new(a, order), AreaRule::new(b, order));
+        g.bench_with_input(BenchmarkId::new("area_area quad-quad order", order), &(&ra, &rb), |bch, (ra, rb)| {
+            bch.iter(|| quadrature::area_area(black_box(ra), a.normal(), black_box(rb), b.normal()))
+        });
     }
     g.finish();
 }

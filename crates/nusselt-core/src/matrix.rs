@@ -76,6 +76,83 @@ fn check_rows(n: usize, rows: &[usize], receiver: &[bool]) -> Result<()> {
     Ok(())
 }
 
+/// A square sparse matrix in compressed sparse row form, columns ascending within each row.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Csr {
+    pub indptr: Vec<i64>,
+    pub indices: Vec<i64>,
+    pub data: Vec<f64>,
+}
+
+/// One row of the upper triangle of the symmetric G = A_i F_ij: source row `row` and its
+/// entries (column j > row, ascending; G_ij; optionally the standard error of G_ij).
+pub struct UpperRow<'a> {
+    pub row: usize,
+    pub cols: &'a [i64],
+    pub g: &'a [f64],
+    pub std: Option<&'a [f64]>,
+}
+
+/// The full F (and its standard errors when given) from the upper triangle of G: F_ij =
+/// G_ij / A_i and F_ji = G_ij / A_j, in one pass over the entries. Each row is given at most
+/// once, in any order; the result has ascending columns (lower entries, then upper).
+pub fn mirror_upper(areas: &[f64], rows: &[UpperRow<'_>], with_std: bool) -> Result<(Csr, Option<Csr>)> {
+    let n = areas.len();
+    let bad = |what: String| Err(Error::InvalidArgument(what));
+    let mut by_row: Vec<Option<usize>> = vec![None; n];
+    let mut count = vec![0i64; n + 1];
+    let mut lower = vec![0i64; n];
+    for (k, r) in rows.iter().enumerate() {
+        if r.row >= n || by_row[r.row].is_some() {
+            return bad(format!("row {} is out of range or given twice", r.row));
+        }
+        if r.cols.len() != r.g.len() || r.std.is_some_and(|s| s.len() != r.g.len()) {
+            return bad(format!("row {}: column and value counts differ", r.row));
+        }
+        by_row[r.row] = Some(k);
+        let mut prev = r.row as i64;
+        for &j in r.cols {
+            if j <= prev || j >= n as i64 {
+                return bad(format!("row {}: columns must ascend above the diagonal and be < {n}", r.row));
+            }
+            prev = j;
+            lower[j as usize] += 1;
+        }
+        count[r.row + 1] += r.cols.len() as i64;
+    }
+    for i in 0..n {
+        count[i + 1] += lower[i] + count[i];
+    }
+    let nnz = count[n] as usize;
+    let mut next_lower: Vec<i64> = count[..n].to_vec();
+    let mut indices = vec![0i64; nnz];
+    let mut data = vec![0.0f64; nnz];
+    let mut sdata = if with_std { vec![0.0f64; nnz] } else { Vec::new() };
+    // Sources in ascending order: the lower entries of each row then arrive column-ascending.
+    for i in 0..n {
+        let Some(k) = by_row[i] else { continue };
+        let r = &rows[k];
+        let mut up = (count[i] + lower[i]) as usize;
+        for (e, (&j, &g)) in r.cols.iter().zip(r.g).enumerate() {
+            let ju = j as usize;
+            let lo = next_lower[ju] as usize;
+            next_lower[ju] += 1;
+            indices[up] = j;
+            data[up] = g / areas[i];
+            indices[lo] = i as i64;
+            data[lo] = g / areas[ju];
+            if with_std {
+                let sd = r.std.map_or(0.0, |s| s[e]);
+                sdata[up] = sd / areas[i];
+                sdata[lo] = sd / areas[ju];
+            }
+            up += 1;
+        }
+    }
+    let std = with_std.then(|| Csr { indptr: count.clone(), indices: indices.clone(), data: sdata });
+    Ok((Csr { indptr: count, indices, data }, std))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -96,6 +173,43 @@ mod tests {
         assert_eq!(out[0], vec![(1, 1.0), (3, 3.0), (4, 4.0)]);
         assert!(out[2].is_empty());
         assert_eq!(out[3], vec![(4, 34.0)]);
+    }
+
+    #[test]
+    fn mirror_upper_builds_symmetric_g_over_areas() {
+        // G upper: (0,1)=2, (0,3)=6, (1,2)=4, (2,3)=8; row 2 given before row 0
+        let areas = [1.0, 2.0, 4.0, 8.0];
+        let (c0, g0, s0) = ([1i64, 3], [2.0, 6.0], [0.1, 0.3]);
+        let (c1, g1, s1) = ([2i64], [4.0], [0.2]);
+        let (c2, g2, s2) = ([3i64], [8.0], [0.4]);
+        let rows = [
+            UpperRow { row: 2, cols: &c2, g: &g2, std: Some(&s2) },
+            UpperRow { row: 0, cols: &c0, g: &g0, std: Some(&s0) },
+            UpperRow { row: 1, cols: &c1, g: &g1, std: Some(&s1) },
+        ];
+        let (f, s) = mirror_upper(&areas, &rows, true).unwrap();
+        let mut dense = [[0.0; 4]; 4];
+        for i in 0..4 {
+            let (a, b) = (f.indptr[i] as usize, f.indptr[i + 1] as usize);
+            assert!(f.indices[a..b].windows(2).all(|w| w[0] < w[1]), "row {i} not sorted");
+            for k in a..b {
+                dense[i][f.indices[k] as usize] = f.data[k];
+            }
+        }
+        let g = [[0.0, 2.0, 0.0, 6.0], [2.0, 0.0, 4.0, 0.0], [0.0, 4.0, 0.0, 8.0], [6.0, 0.0, 8.0, 0.0]];
+        for i in 0..4 {
+            for j in 0..4 {
+                assert_eq!(dense[i][j], g[i][j] / areas[i], "({i},{j})");
+            }
+        }
+        let s = s.unwrap();
+        assert_eq!(s.indices, f.indices);
+        assert_eq!(s.data[0], 0.1 / 1.0); // row 0, column 1
+        // malformed input is an error, not a panic
+        let bad = [UpperRow { row: 1, cols: &[0i64], g: &[1.0], std: None }];
+        assert!(mirror_upper(&areas, &bad, false).is_err());
+        let twice = [UpperRow { row: 0, cols: &[], g: &[], std: None }, UpperRow { row: 0, cols: &[], g: &[], std: None }];
+        assert!(mirror_upper(&areas, &twice, false).is_err());
     }
 
     #[test]

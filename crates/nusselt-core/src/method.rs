@@ -9,7 +9,7 @@ use crate::analytic;
 use crate::contour;
 use crate::error::{Error, Result};
 use crate::geometry::{Polygon, Vec3};
-use crate::quadrature::{self, AreaRule};
+use crate::quadrature::{self, AreaRule, PackedRule};
 use std::sync::OnceLock;
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -63,15 +63,15 @@ pub const MAX_AUTO_ORDER: usize = 8;
 
 /// Area rules of one polygon, built on first use per order (shared across threads).
 pub struct RuleCache {
-    rules: Vec<OnceLock<AreaRule>>,
+    rules: Vec<OnceLock<PackedRule>>,
 }
 
 impl RuleCache {
     pub fn new(n_polygons: usize) -> Self {
         RuleCache { rules: (0..n_polygons * MAX_AUTO_ORDER).map(|_| OnceLock::new()).collect() }
     }
-    fn get<'a>(&'a self, id: usize, poly: &Polygon, order: usize) -> &'a AreaRule {
-        self.rules[id * MAX_AUTO_ORDER + order - 1].get_or_init(|| AreaRule::new(poly, order))
+    fn get<'a>(&'a self, id: usize, poly: &Polygon, order: usize) -> &'a PackedRule {
+        self.rules[id * MAX_AUTO_ORDER + order - 1].get_or_init(|| PackedRule::new(&AreaRule::new(poly, order), poly))
     }
 }
 
@@ -89,6 +89,14 @@ pub enum Facing {
 pub fn facing(a: &Polygon, b: &Polygon) -> Facing {
     let tol = 1e-12 * (a.radius() + b.radius());
     let side = |p: &Polygon, q: &Polygon| {
+        // bounding-sphere test first: most pairs of a scene are decided without the vertices
+        let h = (q.centroid() - p.centroid()).dot(p.normal());
+        if h - q.radius() > tol {
+            return (true, false);
+        }
+        if h + q.radius() < -tol {
+            return (false, true);
+        }
         let (mut pos, mut neg) = (false, false);
         for v in q.vertices() {
             let d = (*v - p.centroid()).dot(p.normal());
@@ -121,11 +129,23 @@ pub fn area_factor(
     opts: &Options,
     cache: Option<(&RuleCache, usize, usize)>,
 ) -> Result<f64> {
+    let f = if method == Method::Auto { facing(a, b) } else { Facing::Partial };
+    area_factor_facing(a, b, f, method, opts, cache)
+}
+
+/// [`area_factor`] when the caller already knows `facing(a, b)` (scene loops test it first).
+pub fn area_factor_facing(
+    a: &Polygon,
+    b: &Polygon,
+    f: Facing,
+    method: Method,
+    opts: &Options,
+    cache: Option<(&RuleCache, usize, usize)>,
+) -> Result<f64> {
     match method {
         Method::Analytic => Ok(analytic::polygon_pair(a, b)),
         Method::Contour => contour::polygon_pair(a, b, opts.nodes),
         Method::Auto => {
-            let f = facing(a, b);
             if f == Facing::None {
                 return Ok(0.0);
             }
@@ -133,16 +153,13 @@ pub fn area_factor(
                 if let Some(order) = quadrature::far_field_order(relative_separation(a, b), opts.tol) {
                     if order <= MAX_AUTO_ORDER {
                         let g = match cache {
-                            Some((c, ia, ib)) => quadrature::area_area(
-                                c.get(ia, a, order),
+                            Some((c, ia, ib)) => {
+                                quadrature::far_pair(c.get(ia, a, order), a.normal(), c.get(ib, b, order), b.normal())
+                            }
+                            None => quadrature::far_pair(
+                                &PackedRule::new(&AreaRule::new(a, order), a),
                                 a.normal(),
-                                c.get(ib, b, order),
-                                b.normal(),
-                            ),
-                            None => quadrature::area_area(
-                                &AreaRule::new(a, order),
-                                a.normal(),
-                                &AreaRule::new(b, order),
+                                &PackedRule::new(&AreaRule::new(b, order), b),
                                 b.normal(),
                             ),
                         };

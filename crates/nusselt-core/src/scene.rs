@@ -147,10 +147,18 @@ impl Scene {
                     Ok(Estimate { value: method::area_factor(&p[i], &p[j], mm, &o.exact, Some((&self.rules, i, j)))?, std_err: 0.0 })
                 })
             }
-            AnyMethod::Visible(VisMethod::Auto) if free => Box::new(move |i, j| {
-                let v = method::area_factor(&p[i], &p[j], Method::Auto, &o.exact, Some((&self.rules, i, j)))?;
-                Ok(Estimate { value: v, std_err: 0.0 })
-            }),
+            AnyMethod::Visible(VisMethod::Auto) if free => {
+                return upper_pair_rows(n, rows, &self.receiver, cancel, |_, _| false, |i, j| {
+                    // one facing test per pair: it both skips and selects the rule
+                    let f = method::facing(&p[i], &p[j]);
+                    if f == method::Facing::None {
+                        return Ok(None);
+                    }
+                    let g = method::area_factor_facing(&p[i], &p[j], f, Method::Auto, &o.exact, Some((&self.rules, i, j)))?;
+                    Ok((g != 0.0).then_some((g, 0.0)))
+                })
+                .map(|rows| rows.into_iter().map(|r| r.into_iter().map(|(j, (g, s))| (j, g, s)).collect()).collect());
+            }
             AnyMethod::Visible(vm) => {
                 let ctx = self.context()?;
                 let mut vo = o.vis.clone();

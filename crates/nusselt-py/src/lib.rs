@@ -2,6 +2,7 @@
 //! release around every heavy call, a fork-safe worker pool (threads.rs). No numerics here.
 use pyo3::prelude::*;
 
+mod assemble;
 mod convert;
 mod errors;
 mod options;
@@ -13,6 +14,7 @@ mod threads;
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add_class::<scene::SceneCore>()?;
+    m.add_function(wrap_pyfunction!(assemble::mirror_pairs, m)?)?;
     m.add_function(wrap_pyfunction!(pair::view_factor, m)?)?;
     m.add_function(wrap_pyfunction!(pair::point_view_factor, m)?)?;
     m.add_function(wrap_pyfunction!(_panic_guard_selftest, m)?)?;

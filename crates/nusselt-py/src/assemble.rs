@@ -1,0 +1,74 @@
+//! Assembly of the full F from the upper-triangle blocks of a pair-method run, in one pass
+//! (numpy/scipy would concatenate, transpose and merge: several copies of every entry).
+use crate::errors::guard;
+use nusselt_core::matrix::{mirror_upper, UpperRow};
+use nusselt_core::Error;
+use numpy::{IntoPyArray, PyArray1, PyReadonlyArray1};
+use pyo3::prelude::*;
+
+type Block<'py> = (
+    PyReadonlyArray1<'py, i64>,
+    PyReadonlyArray1<'py, i64>,
+    PyReadonlyArray1<'py, i64>,
+    PyReadonlyArray1<'py, f64>,
+    Option<PyReadonlyArray1<'py, f64>>,
+);
+type Out<'py> = (Bound<'py, PyArray1<i64>>, Bound<'py, PyArray1<i64>>, Bound<'py, PyArray1<f64>>, Option<Bound<'py, PyArray1<f64>>>);
+
+/// (indptr, indices, F, standard errors of F or None) over receiver indices, from blocks of
+/// (rows, indptr, columns, G, std of G) in scene indices; `col_of` maps scene index to
+/// receiver index (-1: not a receiver). Standard errors are kept only when some are nonzero.
+#[pyfunction]
+pub fn mirror_pairs<'py>(
+    py: Python<'py>,
+    areas: PyReadonlyArray1<'py, f64>,
+    col_of: PyReadonlyArray1<'py, i64>,
+    blocks: Vec<Block<'py>>,
+) -> PyResult<Out<'py>> {
+    let areas = areas.as_slice()?;
+    let col_of = col_of.as_slice()?;
+    let mut mapped: Vec<(usize, Vec<i64>, usize, usize, usize)> = Vec::new(); // row, cols, block, start, end
+    let mut with_std = false;
+    for (b, (rows, indptr, indices, data, std)) in blocks.iter().enumerate() {
+        let (rows, indptr, indices, data) = (rows.as_slice()?, indptr.as_slice()?, indices.as_slice()?, data.as_slice()?);
+        if indptr.len() != rows.len() + 1 || indices.len() != data.len() || std.as_ref().is_some_and(|s| s.len().ok() != Some(data.len())) {
+            return Err(pyo3::exceptions::PyValueError::new_err(format!("block {b}: inconsistent CSR parts")));
+        }
+        if let Some(s) = std {
+            with_std |= s.as_slice()?.iter().any(|&v| v != 0.0);
+        }
+        let map = |k: i64| -> PyResult<i64> {
+            usize::try_from(k).ok().and_then(|k| col_of.get(k)).copied().filter(|&c| c >= 0).ok_or_else(|| {
+                pyo3::exceptions::PyValueError::new_err(format!("block {b}: index {k} is not a receiver"))
+            })
+        };
+        for (r, &row) in rows.iter().enumerate() {
+            let (s, e) = (indptr[r] as usize, indptr[r + 1] as usize);
+            if s > e || e > indices.len() {
+                return Err(pyo3::exceptions::PyValueError::new_err(format!("block {b}: bad indptr")));
+            }
+            let cols = indices[s..e].iter().map(|&j| map(j)).collect::<PyResult<Vec<i64>>>()?;
+            mapped.push((map(row)? as usize, cols, b, s, e));
+        }
+    }
+    let slices: Vec<(&[f64], Option<&[f64]>)> = blocks
+        .iter()
+        .map(|(_, _, _, d, s)| Ok((d.as_slice()?, s.as_ref().map(|s| s.as_slice()).transpose()?)))
+        .collect::<PyResult<_>>()?;
+    let rows: Vec<UpperRow> = mapped
+        .iter()
+        .map(|(row, cols, b, s, e)| UpperRow {
+            row: *row,
+            cols,
+            g: &slices[*b].0[*s..*e],
+            std: slices[*b].1.map(|sd| &sd[*s..*e]),
+        })
+        .collect();
+    let (f, sd) = py.detach(|| guard(|| -> Result<_, Error> { mirror_upper(areas, &rows, with_std) }))?;
+    Ok((
+        f.indptr.into_pyarray(py),
+        f.indices.into_pyarray(py),
+        f.data.into_pyarray(py),
+        sd.map(|s| s.data.into_pyarray(py)),
+    ))
+}
