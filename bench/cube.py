@@ -106,7 +106,7 @@ def child(args) -> None:
 def main() -> None:
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--n", type=int, nargs="+", default=[4, 8, 16, 32])
-    p.add_argument("--tol", type=float, nargs="+", default=[1e-6, 1e-10])
+    p.add_argument("--tol", type=float, nargs="+", default=[0.03, 1e-3, 1e-6, 1e-10])
     p.add_argument("--peer-max-n", type=int, default=16)
     p.add_argument("--no-peer", action="store_true")
     p.add_argument("--child", choices=["nusselt", "pyviewfactor"], dest="tool")

@@ -465,6 +465,9 @@ const FAR_ERRS: &[[f64; MAX_FAR_ORDER]] = &[
     [6.9e-04, 1.5e-07, 5.6e-14, 1.8e-15, 2.6e-15, 2.8e-15, 2.7e-15, 3.4e-15, 3.7e-15, 5.4e-15, 9.2e-15, 6.4e-15, 4.9e-15, 6.2e-15, 9.2e-15, 1.1e-14], // 1024
 ];
 
+// far_field_order's per-thread order table has room for 32 rows
+const _: () = assert!(FAR_SEPS.len() <= 32);
+
 /// Largest order [`far_field_order`] returns.
 pub const MAX_FAR_ORDER: usize = 16;
 
@@ -542,13 +545,26 @@ pub fn far_field_order(rel_sep: f64, rel_tol: f64) -> Option<usize> {
     });
     let row = FAR_SEPS.partition_point(|&s| s <= rel_sep).checked_sub(1)?;
     let last = FAR_SEPS.len() - 1;
-    (1..=MAX_FAR_ORDER).find(|&n| {
-        let mut e = suffix[row][n - 1];
-        if row == last {
-            e *= (FAR_SEPS[last] / rel_sep).powi((2 * n as i32 - 3).max(1));
+    let order_for = |n_ok: &dyn Fn(usize) -> bool| (1..=MAX_FAR_ORDER).find(|&n| n_ok(n));
+    if row == last {
+        return order_for(&|n| {
+            let e = suffix[last][n - 1] * (FAR_SEPS[last] / rel_sep).powi((2 * n as i32 - 3).max(1));
+            e.max(FLOOR) * FAR_SAFETY <= rel_tol
+        });
+    }
+    // Scene loops ask with one tolerance millions of times: remember the orders per row for
+    // the last tolerance seen on this thread.
+    thread_local! {
+        static ORDERS: std::cell::Cell<(u64, [u8; 32])> = const { std::cell::Cell::new((u64::MAX, [0; 32])) };
+    }
+    let (bits, mut table) = ORDERS.get();
+    if bits != rel_tol.to_bits() {
+        for (r, slot) in table.iter_mut().enumerate().take(last) {
+            *slot = order_for(&|n| suffix[r][n - 1].max(FLOOR) * FAR_SAFETY <= rel_tol).map_or(0, |n| n as u8);
         }
-        e.max(FLOOR) * FAR_SAFETY <= rel_tol
-    })
+        ORDERS.set((rel_tol.to_bits(), table));
+    }
+    (table[row] > 0).then_some(table[row] as usize)
 }
 
 #[cfg(test)]
