@@ -86,7 +86,7 @@ def table() -> None:
                 print(f"{'':24s} {method:12s} {label:18s} {f:14.10f} {abs(f - ref):10.2e} {ms:9.3f}", flush=True)
 
 
-def room(n: int, method: str) -> None:
+def room(n: int, method: str, tol: float | None = None) -> None:
     from nusselt.scene import Scene
 
     polys = []
@@ -107,9 +107,10 @@ def room(n: int, method: str) -> None:
                         polys.append(q + offset)
     scene = Scene.from_polygons(polys)
     t0 = time.perf_counter()
-    res = nusselt.form_factors(scene, method=method)
+    kw = {} if tol is None else {"obstructed_tol" if method == "auto" else "tol": tol}
+    res = nusselt.form_factors(scene, method=method, **kw)
     dt = time.perf_counter() - t0
-    print(f"room with inner box: {len(scene)} patches, method {method}: {dt:.2f} s wall, "
+    print(f"room with inner box: {len(scene)} patches, method {method} {kw or 'default'}: {dt:.2f} s wall, "
           f"{len(scene) / dt:.0f} rows/s, max |row sum - 1| = {res.closure_error:.2e}, "
           f"reciprocity error = {res.reciprocity_error:.2e}")
 
@@ -118,9 +119,11 @@ if __name__ == "__main__":
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--room", type=int, default=8, help="quads per room wall edge (0: skip)")
     p.add_argument("--room-method", default="auto")
+    p.add_argument("--room-tol", type=float, default=None,
+                   help="obstructed accuracy target of the room (auto: obstructed_tol, clipping: tol)")
     p.add_argument("--no-table", action="store_true")
     a = p.parse_args()
     if not a.no_table:
         table()
     if a.room:
-        room(a.room, a.room_method)
+        room(a.room, a.room_method, a.room_tol)

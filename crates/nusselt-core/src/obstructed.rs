@@ -250,7 +250,8 @@ pub fn pair(ctx: &Context, i: usize, j: usize, m: VisMethod, o: &VisOptions) -> 
                     }
                     let shadowed = |x: Vec3| point_shadowed_view_factor(x, a.normal(), b, &blockers);
                     let start = split_at_kinks(sa, b, &blockers);
-                    let hidden = adaptive_over_source(&start, &shadowed, o.tol * free, o);
+                    let test = ShadowTest::new(sb, &blockers);
+                    let hidden = adaptive_over_source(&start, &shadowed, &|t| test.may_shadow(t), o.tol * free, o);
                     Estimate::exact((free - hidden).clamp(0.0, free))
                 }
                 Some(k) => {
@@ -493,6 +494,39 @@ fn triangle_integral(t: &[Vec3; 3], f: &dyn Fn(Vec3) -> f64) -> f64 {
     area * radon7().iter().map(|(b, w)| w * f(t[0] * b[0] + t[1] * b[1] + t[2] * b[2])).sum::<f64>()
 }
 
+/// Whether some blocker may hide part of the receiver from some point of a source triangle:
+/// the pair's blockers tested against the shaft (convex hull) of the triangle and the
+/// receiver. Where none meets it, every segment from the triangle to the receiver is free and
+/// the shadowed F is 0 there, so the adaptive rule spends no evaluation on such pieces.
+struct ShadowTest<'a> {
+    receiver: &'a Polygon,
+    triangles: Vec<([Vec3; 3], Vec3)>,
+    max_abs: f64,
+}
+
+impl<'a> ShadowTest<'a> {
+    fn new(receiver: &'a Polygon, blockers: &[&Polygon]) -> Self {
+        let mut triangles = Vec::new();
+        let mut max_abs: f64 = 0.0;
+        for b in blockers {
+            let v = b.vertices();
+            for x in v {
+                max_abs = max_abs.max(x.abs().max_element());
+            }
+            for t in b.triangulate() {
+                triangles.push(([v[t[0]], v[t[1]], v[t[2]]], b.normal()));
+            }
+        }
+        ShadowTest { receiver, triangles, max_abs }
+    }
+
+    fn may_shadow(&self, t: &[Vec3; 3]) -> bool {
+        let Ok(piece) = Polygon::new(t.to_vec()) else { return true };
+        let shaft = crate::visibility::bvh::Shaft::new(&piece, self.receiver, self.max_abs);
+        self.triangles.iter().any(|(v, n)| shaft.may_meet_triangle(v, *n))
+    }
+}
+
 /// Most pieces the kink split may cut a source into.
 const MAX_KINK_PIECES: usize = 64;
 
@@ -506,6 +540,61 @@ const MAX_KINK_PIECES: usize = 64;
 ///   the rule in architectural and meshed scenes.
 /// Other event lines (shadow vertices crossing edges) make only the second derivative jump.
 fn split_at_kinks(a: &Polygon, receiver: &Polygon, blockers: &[&Polygon]) -> Vec<[Vec3; 3]> {
+    let kinks = kink_planes(a, receiver, blockers);
+    let v = a.vertices();
+    let mut pieces: Vec<Vec<Vec3>> = a.triangulate().iter().map(|t| vec![v[t[0]], v[t[1]], v[t[2]]]).collect();
+    let (mut lo, mut hi) = (Vec::new(), Vec::new());
+    for &(q, n) in &kinks.planes {
+        if pieces.len() >= MAX_KINK_PIECES {
+            break;
+        }
+        let mut next = Vec::with_capacity(pieces.len() + 4);
+        for piece in pieces {
+            if !kinks.cuts(&piece, q, n) {
+                next.push(piece);
+                continue;
+            }
+            clip_to_halfspace(&piece, q, n, 0.0, &mut hi);
+            clip_to_halfspace(&piece, q, -n, 0.0, &mut lo);
+            for part in [&hi, &lo] {
+                if part.len() >= 3 {
+                    next.push(part.clone());
+                }
+            }
+        }
+        pieces = next;
+    }
+    // Every piece is convex (a triangle cut by planes): fan triangulation.
+    fan_triangles(&pieces, 1e-12 * a.area())
+}
+
+/// Fan triangles of convex pieces. Slivers from cuts through a vertex carry no area but would
+/// put sample points on a kink line: those below `min_area` are left out.
+fn fan_triangles(pieces: &[Vec<Vec3>], min_area: f64) -> Vec<[Vec3; 3]> {
+    pieces
+        .iter()
+        .filter(|p| p.len() >= 3)
+        .flat_map(|p| (1..p.len() - 1).map(move |k| [p[0], p[k], p[k + 1]]))
+        .filter(|t| 0.5 * (t[1] - t[0]).cross(t[2] - t[0]).length() > min_area)
+        .collect()
+}
+
+/// The kink planes of a pair (see [`split_at_kinks`]), most important first, with the
+/// length tolerance under which a plane is taken not to cut a piece.
+struct Kinks {
+    planes: Vec<(Vec3, Vec3)>,
+    tol: f64,
+}
+
+impl Kinks {
+    /// True if the plane (point q, unit normal n) passes through the piece's interior.
+    fn cuts(&self, piece: &[Vec3], q: Vec3, n: Vec3) -> bool {
+        let side = |x: &Vec3| n.dot(*x - q);
+        piece.iter().any(|x| side(x) > self.tol) && piece.iter().any(|x| side(x) < -self.tol)
+    }
+}
+
+fn kink_planes(a: &Polygon, receiver: &Polygon, blockers: &[&Polygon]) -> Kinks {
     let scale = a.radius() + receiver.radius() + a.centroid().distance(receiver.centroid());
     let tol = 1e-9 * scale;
     let mut planes: Vec<(Vec3, Vec3)> = Vec::new();
@@ -584,39 +673,7 @@ fn split_at_kinks(a: &Polygon, receiver: &Polygon, blockers: &[&Polygon]) -> Vec
             }
         }
     }
-    let v = a.vertices();
-    let mut pieces: Vec<Vec<Vec3>> = a.triangulate().iter().map(|t| vec![v[t[0]], v[t[1]], v[t[2]]]).collect();
-    let (mut lo, mut hi) = (Vec::new(), Vec::new());
-    for (q, n) in planes {
-        if pieces.len() >= MAX_KINK_PIECES {
-            break;
-        }
-        let mut next = Vec::with_capacity(pieces.len() + 4);
-        for piece in pieces {
-            let side = |x: &Vec3| n.dot(*x - q);
-            let cuts = piece.iter().any(|x| side(x) > tol) && piece.iter().any(|x| side(x) < -tol);
-            if !cuts {
-                next.push(piece);
-                continue;
-            }
-            clip_to_halfspace(&piece, q, n, 0.0, &mut hi);
-            clip_to_halfspace(&piece, q, -n, 0.0, &mut lo);
-            for part in [&hi, &lo] {
-                if part.len() >= 3 {
-                    next.push(part.clone());
-                }
-            }
-        }
-        pieces = next;
-    }
-    // Every piece is convex (a triangle cut by planes): fan triangulation. Slivers from cuts
-    // through a vertex carry no area but would put sample points on a kink line.
-    let min_area = 1e-12 * a.area();
-    pieces
-        .iter()
-        .flat_map(|p| (1..p.len() - 1).map(move |k| [p[0], p[k], p[k + 1]]))
-        .filter(|t| 0.5 * (t[1] - t[0]).cross(t[2] - t[0]).length() > min_area)
-        .collect()
+    Kinks { planes, tol }
 }
 
 /// Most integrand evaluations one adaptive source integral may spend (about 0.1-1 s).
@@ -629,7 +686,13 @@ pub const MAX_SOURCE_EVALS: usize = 60_000;
 /// evaluation budget is reached. The visible-region F is continuous but has kinks along
 /// shadow lines: a global criterion spends the refinement along those lines only as far
 /// as the total error needs it (a local criterion would refine them without end).
-fn adaptive_over_source(start: &[[Vec3; 3]], f: &dyn Fn(Vec3) -> f64, goal: f64, o: &VisOptions) -> f64 {
+fn adaptive_over_source(
+    start: &[[Vec3; 3]],
+    f: &dyn Fn(Vec3) -> f64,
+    may_shadow: &dyn Fn(&[Vec3; 3]) -> bool,
+    goal: f64,
+    o: &VisOptions,
+) -> f64 {
     use std::cmp::Ordering;
     use std::collections::BinaryHeap;
     struct Leaf {
@@ -671,8 +734,10 @@ fn adaptive_over_source(start: &[[Vec3; 3]], f: &dyn Fn(Vec3) -> f64, goal: f64,
     let mut heap = BinaryHeap::new();
     let mut evals = 0usize;
     for &t in start {
-        heap.push(leaf(t, triangle_integral(&t, f), 0));
-        evals += 35;
+        if may_shadow(&t) {
+            heap.push(leaf(t, triangle_integral(&t, f), 0));
+            evals += 35;
+        }
     }
     let mut total_err: f64 = heap.iter().map(|l| l.err).sum();
     let mut done = Vec::new(); // leaves at the depth limit
@@ -684,6 +749,9 @@ fn adaptive_over_source(start: &[[Vec3; 3]], f: &dyn Fn(Vec3) -> f64, goal: f64,
         }
         total_err -= worst.err;
         for (k, whole) in split(&worst.t).into_iter().zip(worst.kids) {
+            if !may_shadow(&k) {
+                continue; // exactly 0 there (its whole value is 0 up to rounding)
+            }
             let l = leaf(k, whole, worst.depth + 1);
             total_err += l.err;
             heap.push(l);

@@ -44,7 +44,7 @@ pub fn visible_part(p: Vec3, n: Vec3, receiver: &Polygon, blockers: &[&Polygon])
     match visible(p, n, receiver, blockers) {
         Visible::Nothing => Vec::new(),
         Visible::Whole(rec) => vec![rec],
-        Visible::Parts { contours, .. } => contours,
+        Visible::Parts(contours) => contours,
     }
 }
 
@@ -53,14 +53,44 @@ pub fn visible_part(p: Vec3, n: Vec3, receiver: &Polygon, blockers: &[&Polygon])
 enum Visible {
     Nothing,
     Whole(Vec<Vec3>),
-    Parts { rec: Vec<Vec3>, contours: Vec<Vec<Vec3>> },
+    Parts(Vec<Vec<Vec3>>),
 }
 
-fn visible(p: Vec3, n: Vec3, receiver: &Polygon, blockers: &[&Polygon]) -> Visible {
-    if !p.is_finite() || !n.is_finite() || n == Vec3::ZERO {
-        return Visible::Nothing;
+/// 2-D coordinates on the receiver's plane, relative to its centroid and in units of its
+/// radius (so the boolean sees the same numbers at any scale).
+struct Frame {
+    c: Vec3,
+    r: f64,
+    tu: Vec3,
+    tv: Vec3,
+}
+
+impl Frame {
+    fn to2d(&self, x: Vec3) -> [f64; 2] {
+        let d = x - self.c;
+        [d.dot(self.tu) / self.r, d.dot(self.tv) / self.r]
     }
-    let n = n.normalize();
+    fn to3d(&self, u: [f64; 2]) -> Vec3 {
+        self.c + self.r * (u[0] * self.tu + u[1] * self.tv)
+    }
+}
+
+/// The clipped receiver seen from p and the blockers' shadows on its plane (steps 1-3 of
+/// [`visible_part`]), every shadow counter-clockwise in 2-D.
+struct Cast {
+    frame: Frame,
+    rec: Vec<Vec3>,
+    rec2: Vec<[f64; 2]>,
+    shadows: Vec<Vec<[f64; 2]>>,
+    /// The receiver's bounding box grown by 1 %: shadows are bounded by it for the boolean.
+    window: ([f64; 2], [f64; 2]),
+}
+
+/// None when nothing of the receiver is in view from p (n already normalised).
+fn cast(p: Vec3, n: Vec3, receiver: &Polygon, blockers: &[&Polygon]) -> Option<Cast> {
+    if !p.is_finite() || !n.is_finite() || n == Vec3::ZERO {
+        return None;
+    }
     let nr = receiver.normal();
     let c = receiver.centroid();
     let r = receiver.radius();
@@ -68,33 +98,25 @@ fn visible(p: Vec3, n: Vec3, receiver: &Polygon, blockers: &[&Polygon]) -> Visib
     let scale = r + (p - c).length();
     let tol = 1e-13 * scale;
     if h_p <= tol {
-        return Visible::Nothing;
+        return None;
     }
     let mut rec = Vec::with_capacity(receiver.vertices().len() + 2);
     clip_to_halfspace(receiver.vertices(), p, n, tol, &mut rec);
     if rec.len() < 3 || newell_normal(&rec).dot(nr) <= 1e-14 * r * r {
-        return Visible::Nothing;
+        return None;
     }
     let (tu, tv) = tangent_frame(nr);
-    let to2d = |x: Vec3| -> [f64; 2] {
-        let d = x - c;
-        [d.dot(tu) / r, d.dot(tv) / r]
-    };
-    let to3d = |u: [f64; 2]| -> Vec3 { c + r * (u[0] * tu + u[1] * tv) };
-    let rec2: Vec<[f64; 2]> = rec.iter().map(|x| to2d(*x)).collect();
+    let frame = Frame { c, r, tu, tv };
+    let mut rec2: Vec<[f64; 2]> = rec.iter().map(|x| frame.to2d(*x)).collect();
+    drop_close(&mut rec2);
 
     // Window: the clipped receiver's 2-D bounding box, grown by 1 % of its size.
-    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
-    for u in &rec2 {
-        for k in 0..2 {
-            lo[k] = lo[k].min(u[k]);
-            hi[k] = hi[k].max(u[k]);
-        }
-    }
+    let (lo, hi) = bbox(&rec2);
     let m = 0.01 * (hi[0] - lo[0]).max(hi[1] - lo[1]);
-    let win = [[lo[0] - m, lo[1] - m], [hi[0] + m, lo[1] - m], [hi[0] + m, hi[1] + m], [lo[0] - m, hi[1] + m]];
-    let win3: Vec<Vec3> = win.iter().map(|u| to3d(*u)).collect();
-    let centre = to3d([0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1])]);
+    let (wlo, whi) = ([lo[0] - m, lo[1] - m], [hi[0] + m, hi[1] + m]);
+    let win = [[wlo[0], wlo[1]], [whi[0], wlo[1]], [whi[0], whi[1]], [wlo[0], whi[1]]];
+    let win3: Vec<Vec3> = win.iter().map(|u| frame.to3d(*u)).collect();
+    let centre = frame.to3d([0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1])]);
     // Planes through p (point p, inward normal) bounding the pyramid p -> window.
     let mut clip_planes: Vec<(Vec3, Vec3)> = Vec::with_capacity(7);
     clip_planes.push((c, nr)); // receiver side of the receiver plane
@@ -107,34 +129,42 @@ fn visible(p: Vec3, n: Vec3, receiver: &Polygon, blockers: &[&Polygon]) -> Visib
         }
         clip_planes.push((p, pn.normalize()));
     }
+    let project = |x: Vec3| {
+        let depth = nr.dot(p - x); // > 0 after the clip below p
+        frame.to2d(p + (x - p) * (h_p / depth))
+    };
 
     let mut shadows: Vec<Vec<[f64; 2]>> = Vec::new();
     let mut cur: Vec<Vec3> = Vec::new();
     let mut next: Vec<Vec3> = Vec::new();
     for b in blockers {
+        let v = b.vertices();
         // Quick rejects: entirely on or behind the receiver plane, or behind p's plane.
-        if b.vertices().iter().all(|x| nr.dot(x - c) <= tol) || b.vertices().iter().all(|x| n.dot(x - p) <= tol) {
+        if v.iter().all(|x| nr.dot(*x - c) <= tol) || v.iter().all(|x| n.dot(*x - p) <= tol) {
             continue;
         }
-        cur.clear();
-        cur.extend_from_slice(b.vertices());
-        for (q, qn) in &clip_planes {
-            clip_to_halfspace(&cur, *q, *qn, 0.0, &mut next);
-            std::mem::swap(&mut cur, &mut next);
-            if cur.len() < 3 {
-                break;
+        // Usual case: the whole blocker lies between the planes, well below p (depth at
+        // least 1e-3 h_p keeps the projected coordinates within 1e3 receiver radii). Its
+        // shadow is then the plain projection, and the pyramid clip only matters when that
+        // leaves the window: a shadow missing the window is dropped without any clipping.
+        let plain = v.iter().all(|x| nr.dot(*x - c) >= 0.0 && n.dot(*x - p) >= 0.0 && nr.dot(p - *x) >= 1e-3 * h_p);
+        let mut s: Vec<[f64; 2]>;
+        if plain {
+            s = v.iter().map(|x| project(*x)).collect();
+            let (slo, shi) = bbox(&s);
+            if slo[0] > whi[0] || slo[1] > whi[1] || shi[0] < wlo[0] || shi[1] < wlo[1] {
+                continue;
             }
+            // (a shadow reaching beyond the window is cut to it in 2-D by `difference` only
+            // if the boolean is needed: the convex path takes it as it is)
+        } else {
+            clip_3d(v, &clip_planes, &mut cur, &mut next);
+            if cur.len() < 3 {
+                continue;
+            }
+            s = cur.iter().map(|x| project(*x)).collect();
         }
-        if cur.len() < 3 {
-            continue;
-        }
-        let mut s: Vec<[f64; 2]> = cur
-            .iter()
-            .map(|x| {
-                let depth = nr.dot(p - *x); // > 0 after the clip below p
-                to2d(p + (*x - p) * (h_p / depth))
-            })
-            .collect();
+        drop_close(&mut s);
         let a = signed_area(&s);
         if !(a.abs() > 1e-15) || !a.is_finite() {
             continue; // edge-on blocker (its plane passes through p): no area
@@ -144,19 +174,243 @@ fn visible(p: Vec3, n: Vec3, receiver: &Polygon, blockers: &[&Polygon]) -> Visib
         }
         shadows.push(s);
     }
-    if shadows.is_empty() {
-        return Visible::Whole(rec);
+    Some(Cast { frame, rec, rec2, shadows, window: (wlo, whi) })
+}
+
+/// `v` clipped successively to the half-spaces (point, inward normal) into `cur`.
+fn clip_3d(v: &[Vec3], planes: &[(Vec3, Vec3)], cur: &mut Vec<Vec3>, next: &mut Vec<Vec3>) {
+    cur.clear();
+    cur.extend_from_slice(v);
+    for (q, qn) in planes {
+        clip_to_halfspace(cur, *q, *qn, 0.0, next);
+        std::mem::swap(cur, next);
+        if cur.len() < 3 {
+            return;
+        }
     }
-    let result = rec2.overlay_as::<i64>(&shadows, OverlayRule::Difference, FillRule::NonZero);
+}
+
+fn visible(p: Vec3, n: Vec3, receiver: &Polygon, blockers: &[&Polygon]) -> Visible {
+    let Some(cast) = cast(p, n, receiver, blockers) else { return Visible::Nothing };
+    if cast.shadows.is_empty() {
+        return Visible::Whole(cast.rec);
+    }
+    Visible::Parts(difference(&cast))
+}
+
+/// Step 4 of [`visible_part`]: the receiver minus the union of the shadows (non-zero fill),
+/// by the robust boolean, back in 3-D.
+fn difference(cast: &Cast) -> Vec<Vec<Vec3>> {
+    // Shadows cut to the window (in 2-D, the same as cutting the blocker to the pyramid p ->
+    // window), so the boolean's integer grid is set by the receiver's size.
+    let (lo, hi) = cast.window;
+    let mut shadows = Vec::with_capacity(cast.shadows.len());
+    let mut tmp = Vec::new();
+    for s in &cast.shadows {
+        let mut c = s.clone();
+        for (u, w) in [([lo[0], lo[1]], [hi[0], lo[1]]), ([hi[0], lo[1]], [hi[0], hi[1]]), ([hi[0], hi[1]], [lo[0], hi[1]]), ([lo[0], hi[1]], [lo[0], lo[1]])] {
+            clip_2d(&c, u, w, true, &mut tmp);
+            std::mem::swap(&mut c, &mut tmp);
+        }
+        if c.len() >= 3 {
+            shadows.push(c);
+        }
+    }
+    let result = cast.rec2.overlay_as::<i64>(&shadows, OverlayRule::Difference, FillRule::NonZero);
     let mut out = Vec::new();
     for shape in result {
         for contour in shape {
             if contour.len() >= 3 {
-                out.push(contour.iter().map(|u| to3d(*u)).collect());
+                out.push(contour.iter().map(|u| cast.frame.to3d(*u)).collect());
             }
         }
     }
-    Visible::Parts { rec, contours: out }
+    out
+}
+
+/// Lambert's F from p over the part of the clipped receiver inside the union of the
+/// shadows, without a general boolean, when the receiver and every shadow reaching it are
+/// convex (always so for convex blockers, as clipping keeps convexity). The union is cut into
+/// disjoint convex pieces: shadow k's part of the receiver minus shadows 0..k-1, each
+/// subtraction splitting a convex piece along the subtrahend's edges (Sutherland-Hodgman
+/// half-plane clips). Shadows whose bounding boxes miss a piece are skipped, so disjoint or
+/// edge-adjacent shadows (a meshed blocker) cost one clip each. None when something is
+/// not convex (the caller then uses the boolean).
+fn shadowed_convex(p: Vec3, n: Vec3, cast: &Cast) -> Option<f64> {
+    let (rlo, rhi) = bbox(&cast.rec2);
+    if !is_convex(&cast.rec2) {
+        return None;
+    }
+    // only the shadows reaching the receiver's box matter; each must be convex
+    let mut boxes: Vec<([f64; 2], [f64; 2])> = Vec::with_capacity(cast.shadows.len());
+    for s in &cast.shadows {
+        let b = bbox(s);
+        let hits = overlap(b, (rlo, rhi));
+        if hits && !is_convex(s) {
+            return None;
+        }
+        boxes.push(if hits { b } else { ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]) });
+    }
+    let mut total = 0.0;
+    let mut pieces: Vec<Vec<[f64; 2]>> = Vec::new();
+    let mut split: Vec<Vec<[f64; 2]>> = Vec::new();
+    let (mut a, mut b) = (Vec::new(), Vec::new());
+    let mut piece3 = Vec::new();
+    for (k, s) in cast.shadows.iter().enumerate() {
+        if !overlap(boxes[k], (rlo, rhi)) {
+            continue;
+        }
+        // a shadow over the whole receiver hides all of it (exactly, whatever else is there)
+        let covers = |e: usize| cast.rec2.iter().all(|x| orient(s[e], s[(e + 1) % s.len()], *x) >= 0.0);
+        if (0..s.len()).all(covers) {
+            return Some(crate::analytic::point_contour(p, n, &cast.rec).max(0.0));
+        }
+        // receiver ∩ shadow k
+        a.clear();
+        a.extend_from_slice(&cast.rec2);
+        for e in 0..s.len() {
+            clip_2d(&a, s[e], s[(e + 1) % s.len()], true, &mut b);
+            std::mem::swap(&mut a, &mut b);
+            if a.len() < 3 {
+                break;
+            }
+        }
+        if a.len() < 3 {
+            continue;
+        }
+        pieces.clear();
+        pieces.push(a.clone());
+        // minus the earlier shadows
+        for l in 0..k {
+            let t = &cast.shadows[l];
+            if !overlap(boxes[l], boxes[k]) {
+                continue;
+            }
+            split.clear();
+            for q in pieces.drain(..) {
+                subtract_convex(q, t, &mut split, &mut a, &mut b);
+            }
+            std::mem::swap(&mut pieces, &mut split);
+            if pieces.is_empty() {
+                break;
+            }
+        }
+        for q in &pieces {
+            piece3.clear();
+            piece3.extend(q.iter().map(|u| cast.frame.to3d(*u)));
+            total += crate::analytic::point_contour(p, n, &piece3);
+        }
+    }
+    Some(total.max(0.0))
+}
+
+/// Appends to `out` the convex pieces of q \ t (q and t convex, counter-clockwise): for each
+/// edge of t in turn, the part of what is left outside it, then the rest is cut to its inside.
+fn subtract_convex(q: Vec<[f64; 2]>, t: &[[f64; 2]], out: &mut Vec<Vec<[f64; 2]>>, a: &mut Vec<[f64; 2]>, b: &mut Vec<[f64; 2]>) {
+    // Separated by one of t's edges (the usual case for neighbouring shadows): q is untouched.
+    let m = t.len();
+    for e in 0..m {
+        let (u, v) = (t[e], t[(e + 1) % m]);
+        if u != v && q.iter().all(|x| orient(u, v, *x) <= 0.0) {
+            out.push(q);
+            return;
+        }
+    }
+    let mut rest = q;
+    for e in 0..m {
+        let (u, v) = (t[e], t[(e + 1) % m]);
+        if u == v {
+            continue; // no direction (drop_close leaves none but a lone point)
+        }
+        clip_2d(&rest, u, v, false, a);
+        if a.len() >= 3 {
+            out.push(a.clone());
+        }
+        clip_2d(&rest, u, v, true, b);
+        std::mem::swap(&mut rest, b);
+        if rest.len() < 3 {
+            return;
+        }
+    }
+    // what is left lies inside t: hidden by it
+}
+
+/// Sutherland-Hodgman: the part of the polygon `v` left of the directed line u -> w
+/// (`left`) or right of it, into `out` (a concave polygon may come out with edges doubled
+/// back along the line, which area-based uses do not mind).
+fn clip_2d(v: &[[f64; 2]], u: [f64; 2], w: [f64; 2], left: bool, out: &mut Vec<[f64; 2]>) {
+    out.clear();
+    let m = v.len();
+    let sign = if left { 1.0 } else { -1.0 };
+    let d = |x: [f64; 2]| sign * orient(u, w, x);
+    for i in 0..m {
+        let (x, y) = (v[i], v[(i + 1) % m]);
+        let (dx, dy) = (d(x), d(y));
+        if dx >= 0.0 {
+            out.push(x);
+        }
+        if (dx > 0.0 && dy < 0.0) || (dx < 0.0 && dy > 0.0) {
+            let t = dx / (dx - dy);
+            out.push([x[0] + t * (y[0] - x[0]), x[1] + t * (y[1] - x[1])]);
+        }
+    }
+}
+
+/// Twice the signed area of (u, w, x): positive when x is left of u -> w.
+#[inline]
+fn orient(u: [f64; 2], w: [f64; 2], x: [f64; 2]) -> f64 {
+    (w[0] - u[0]) * (x[1] - u[1]) - (w[1] - u[1]) * (x[0] - u[0])
+}
+
+/// Counter-clockwise and convex: no right turn beyond rounding (a vertex on a straight edge,
+/// as clipping leaves, is fine: its half-plane is that of the edge).
+fn is_convex(v: &[[f64; 2]]) -> bool {
+    let m = v.len();
+    (0..m).all(|i| {
+        let (a, b, c) = (v[i], v[(i + 1) % m], v[(i + 2) % m]);
+        let (e, f) = ([b[0] - a[0], b[1] - a[1]], [c[0] - b[0], c[1] - b[1]]);
+        let cross = e[0] * f[1] - e[1] * f[0];
+        cross >= -1e-12 * ((e[0] * e[0] + e[1] * e[1]) * (f[0] * f[0] + f[1] * f[1])).sqrt()
+    })
+}
+
+/// Removes vertices at rounding distance from their predecessor, as clipping leaves when a
+/// vertex lies almost on a clip plane: the direction of such an edge is noise, and the
+/// half-plane clips of the convex path must not cut along it.
+fn drop_close(v: &mut Vec<[f64; 2]>) {
+    let eps = |u: [f64; 2]| 1e-11 * (1.0 + u[0].abs().max(u[1].abs()));
+    let mut k = 1;
+    while k < v.len() {
+        let (a, b) = (v[k - 1], v[k]);
+        if (a[0] - b[0]).abs().max((a[1] - b[1]).abs()) <= eps(a) {
+            v.remove(k);
+        } else {
+            k += 1;
+        }
+    }
+    while v.len() > 1 {
+        let (a, b) = (v[v.len() - 1], v[0]);
+        if (a[0] - b[0]).abs().max((a[1] - b[1]).abs()) <= eps(a) {
+            v.pop();
+        } else {
+            break;
+        }
+    }
+}
+
+fn bbox(v: &[[f64; 2]]) -> ([f64; 2], [f64; 2]) {
+    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+    for u in v {
+        for k in 0..2 {
+            lo[k] = lo[k].min(u[k]);
+            hi[k] = hi[k].max(u[k]);
+        }
+    }
+    (lo, hi)
+}
+
+fn overlap(a: ([f64; 2], [f64; 2]), b: ([f64; 2], [f64; 2])) -> bool {
+    a.0[0] <= b.1[0] && a.0[1] <= b.1[1] && b.0[0] <= a.1[0] && b.0[1] <= a.1[1]
 }
 
 /// Exact view factor from the differential area at `p` (unit normal `n`) to the part of
@@ -168,6 +422,10 @@ pub fn point_visible_view_factor(p: Vec3, n: Vec3, receiver: &Polygon, blockers:
         return f64::NAN;
     }
     let n = n.normalize();
+    let Some(cast) = cast(p, n, receiver, blockers) else { return 0.0 };
+    if let Some(hidden) = shadowed_convex(p, n, &cast) {
+        return (crate::analytic::point_contour(p, n, &cast.rec) - hidden).max(0.0);
+    }
     visible_part(p, n, receiver, blockers).iter().map(|c| crate::analytic::point_contour(p, n, c)).sum()
 }
 
@@ -181,13 +439,18 @@ pub fn point_shadowed_view_factor(p: Vec3, n: Vec3, receiver: &Polygon, blockers
         return f64::NAN;
     }
     let n = n.normalize();
-    match visible(p, n, receiver, blockers) {
-        Visible::Nothing | Visible::Whole(_) => 0.0,
-        Visible::Parts { rec, contours } => {
-            let lit: f64 = contours.iter().map(|c| crate::analytic::point_contour(p, n, c)).sum();
-            (crate::analytic::point_contour(p, n, &rec) - lit).max(0.0)
-        }
+    let Some(cast) = cast(p, n, receiver, blockers) else { return 0.0 };
+    if cast.shadows.is_empty() {
+        return 0.0;
     }
+    shadowed_convex(p, n, &cast).unwrap_or_else(|| shadowed_boolean(p, n, &cast))
+}
+
+/// [`point_shadowed_view_factor`] by the general boolean: Lambert over the clipped receiver
+/// minus Lambert over what is left after subtracting the union of the shadows.
+fn shadowed_boolean(p: Vec3, n: Vec3, cast: &Cast) -> f64 {
+    let lit: f64 = difference(cast).iter().map(|c| crate::analytic::point_contour(p, n, c)).sum();
+    (crate::analytic::point_contour(p, n, &cast.rec) - lit).max(0.0)
 }
 
 

@@ -373,3 +373,88 @@ fn shadowed_part_is_free_minus_visible_and_zero_without_shadow() {
     assert_eq!(point_shadowed_view_factor(Vec3::new(0.5, 0.5, -1.0), up, &f, &b), 0.0);
     assert!(point_shadowed_view_factor(Vec3::NAN, DOWN, &f, &b).is_nan());
 }
+
+/// Random receiver point and blockers between it and a receiver: convex tilted n-gons, and
+/// (when `tiles`) a flat blocker cut into edge-adjacent tiles, as meshed scenes have.
+fn random_case(rng: &mut Rng, tiles: bool) -> (Vec3, Vec3, Vec<Polygon>) {
+    let p = Vec3::new(rng.range(-0.2, 1.2), rng.range(-0.2, 1.2), rng.range(0.3, 1.5));
+    let n = (DOWN + 0.8 * rng.unit()).normalize();
+    let mut blockers: Vec<Polygon> = (0..1 + (rng.f() * 4.0) as usize)
+        .map(|_| {
+            let y = Vec3::new(rng.range(-0.2, 1.2), rng.range(-0.2, 1.2), 0.0);
+            let c = p + rng.range(-0.1, 1.1) * (y - p);
+            let s = rng.range(0.02, 0.5);
+            let nb = (Vec3::Z * if rng.f() < 0.5 { 1.0 } else { -1.0 } + 1.2 * rng.unit()).normalize();
+            let (t, b) = crate::geometry::tangent_frame(nb);
+            let m = 3 + (rng.f() * 4.0) as usize;
+            let ph = rng.f();
+            let vs = (0..m)
+                .map(|k| {
+                    let a = std::f64::consts::TAU * (k as f64 + ph) / m as f64;
+                    c + s * (a.cos() * t + a.sin() * b)
+                })
+                .collect();
+            Polygon::new(vs).unwrap()
+        })
+        .collect();
+    if tiles {
+        let z = rng.range(0.05, 0.9) * p.z;
+        let (x0, y0) = (rng.range(-0.3, 0.8), rng.range(-0.3, 0.8));
+        let (k, h) = (2 + (rng.f() * 3.0) as usize, rng.range(0.05, 0.3));
+        for i in 0..k {
+            for j in 0..k {
+                let (x, y) = (x0 + i as f64 * h, y0 + j as f64 * h);
+                blockers.push(rect(2, z, (x, x + h), (y, y + h), rng.f() < 0.5));
+            }
+        }
+    }
+    (p, n, blockers)
+}
+
+#[test]
+fn convex_path_matches_the_boolean() {
+    let mut rng = Rng::new(2024);
+    let recs = [floor(), poly(&[[0., 0., 0.], [1.0, -0.1, 0.], [1.2, 0.9, 0.], [0.1, 1.0, 0.]]), ngon(0.6, 0.0, 7, true)];
+    let (mut convex, mut shadowed) = (0, 0);
+    for case in 0..3000 {
+        let rec = &recs[case % recs.len()];
+        let (p, n, blockers) = random_case(&mut rng, case % 2 == 1);
+        let refs: Vec<&Polygon> = blockers.iter().collect();
+        let Some(cast) = cast(p, n, rec, &refs) else { continue };
+        let fast = shadowed_convex(p, n, &cast);
+        let slow = shadowed_boolean(p, n, &cast);
+        if let Some(fast) = fast {
+            convex += 1;
+            shadowed += (slow > 0.0) as usize;
+            let free = crate::analytic::point_contour(p, n, &cast.rec);
+            assert!((fast - slow).abs() <= 1e-12 * free.max(1e-3), "case {case}: convex {fast} vs boolean {slow}");
+        }
+        // the public entry points agree with the boolean either way
+        let hid = point_shadowed_view_factor(p, n, rec, &refs);
+        assert!((hid - slow).abs() < 1e-12, "case {case}: {hid} vs {slow}");
+    }
+    assert!(convex > 2000 && shadowed > 1000, "{convex} convex cases, {shadowed} with a shadow");
+}
+
+#[test]
+fn convex_path_special_cases() {
+    let f = floor();
+    // shadow covering the whole receiver: all of Lambert hidden
+    let big = rect(2, 0.5, (-1.0, 2.0), (-1.0, 2.0), true);
+    let cast1 = cast(P, DOWN, &f, &[&big]).unwrap();
+    let hid = shadowed_convex(P, DOWN, &cast1).unwrap();
+    assert!((hid - f_plain(P, DOWN, &f)).abs() < 1e-15);
+    // the same cover as 3 x 3 edge-adjacent tiles and a duplicate on top: no double counting
+    let tiles: Vec<Polygon> = (0..9)
+        .map(|k| rect(2, 0.5, (-1.0 + (k % 3) as f64, (k % 3) as f64), (-1.0 + (k / 3) as f64, (k / 3) as f64), k % 2 == 0))
+        .collect();
+    let mut refs: Vec<&Polygon> = tiles.iter().collect();
+    refs.push(&big);
+    let cast2 = cast(P, DOWN, &f, &refs).unwrap();
+    assert!((shadowed_convex(P, DOWN, &cast2).unwrap() - hid).abs() < 1e-14);
+    // a concave blocker (L shape) is left to the boolean
+    let l = poly(&[[0.2, 0.2, 0.5], [0.8, 0.2, 0.5], [0.8, 0.4, 0.5], [0.4, 0.4, 0.5], [0.4, 0.8, 0.5], [0.2, 0.8, 0.5]]);
+    let cast3 = cast(P, DOWN, &f, &[&l]).unwrap();
+    assert!(shadowed_convex(P, DOWN, &cast3).is_none());
+    assert!(point_shadowed_view_factor(P, DOWN, &f, &[&l]) > 0.0);
+}

@@ -1,0 +1,138 @@
+//! Profiling driver for obstructed `auto` on the box room with an inner box of
+//! bench/obstructed.py (6 n^2 wall quads, 6 (n/3)^2 inner-box quads).
+//!
+//!   cargo run --release --example obstructed_room -- rows N [TOL] [STRIDE]
+//!       time pair_rows over every STRIDE-th row (all receivers j > i); with DUMP=path,
+//!       write "i j G_ij A_i" lines there
+//!   cargo run --release --example obstructed_room -- points N
+//!       time single evaluations of the shadowed point F on obstructed pairs
+use nusselt_core::obstructed::{VisMethod, VisOptions};
+use nusselt_core::scene::{AllOptions, AnyMethod, Scene};
+use nusselt_core::visibility::shadow::point_shadowed_view_factor;
+use nusselt_core::visibility::{Bvh, Visibility};
+use nusselt_core::{Polygon, Vec3};
+use std::sync::atomic::AtomicBool;
+use std::time::Instant;
+
+fn room(n: usize) -> Vec<Polygon> {
+    let mut out = Vec::new();
+    for (size, offset, inward) in [(3.0, Vec3::ZERO, true), (1.0, Vec3::new(0.8, 0.7, 1.1), false)] {
+        let m = if inward { n } else { (n / 3).max(2) };
+        let t: Vec<f64> = (0..=m).map(|k| size * k as f64 / m as f64).collect();
+        for axis in 0..3 {
+            for side in [0.0, size] {
+                let others: Vec<usize> = (0..3).filter(|&k| k != axis).collect();
+                let (u, w) = (others[0], others[1]);
+                let mut normal = [0.0; 3];
+                normal[axis] = (if side == 0.0 { 1.0 } else { -1.0 }) * (if inward { 1.0 } else { -1.0 });
+                let normal = Vec3::from_array(normal);
+                for i in 0..m {
+                    for j in 0..m {
+                        let mut q: Vec<Vec3> = [(0, 0), (1, 0), (1, 1), (0, 1)]
+                            .iter()
+                            .map(|&(di, dj)| {
+                                let mut v = [0.0; 3];
+                                v[axis] = side;
+                                v[u] = t[i + di];
+                                v[w] = t[j + dj];
+                                Vec3::from_array(v) + offset
+                            })
+                            .collect();
+                        if (q[1] - q[0]).cross(q[2] - q[0]).dot(normal) < 0.0 {
+                            q.reverse();
+                        }
+                        out.push(Polygon::new(q).unwrap());
+                    }
+                }
+            }
+        }
+    }
+    out
+}
+
+fn main() {
+    let args: Vec<String> = std::env::args().collect();
+    let mode = args.get(1).map(String::as_str).unwrap_or("rows");
+    let n: usize = args.get(2).and_then(|s| s.parse().ok()).unwrap_or(6);
+    let polys = room(n);
+    match mode {
+        "rows" => {
+            let tol: f64 = args.get(3).and_then(|s| s.parse().ok()).unwrap_or(1e-6);
+            let stride: usize = args.get(4).and_then(|s| s.parse().ok()).unwrap_or(1);
+            let np = polys.len();
+            let scene = Scene::new(polys, vec![true; np]).unwrap();
+            let mut o = AllOptions::default();
+            o.vis.tol = tol;
+            let rows: Vec<usize> = (0..np).step_by(stride).collect();
+            let t0 = Instant::now();
+            let r = scene.pair_rows(&rows, AnyMethod::Visible(VisMethod::Auto), &o, &AtomicBool::new(false)).unwrap();
+            let dt = t0.elapsed().as_secs_f64();
+            let pairs: usize = r.iter().map(|x| x.len()).sum();
+            if let Ok(path) = std::env::var("DUMP") {
+                use std::io::Write;
+                let mut w = std::io::BufWriter::new(std::fs::File::create(path).unwrap());
+                for (i, row) in rows.iter().zip(&r) {
+                    for (j, g, _) in row {
+                        writeln!(w, "{i} {j} {g:.17e} {:.17e}", scene.polygons()[*i].area()).unwrap();
+                    }
+                }
+            }
+            println!("{np} patches, {} rows, {pairs} nonzero pairs, tol {tol:e}: {dt:.3} s", rows.len());
+        }
+        "points" => {
+            let bvh = Bvh::new(&polys).unwrap();
+            let o = VisOptions::default();
+            let _ = o;
+            let mut evals = 0usize;
+            let mut nonzero = 0usize;
+            let mut total = 0.0f64;
+            let t0 = Instant::now();
+            let mut cand = Vec::new();
+            let mut s = 0x1234_5678u64;
+            let mut rnd = || {
+                s ^= s << 13;
+                s ^= s >> 7;
+                s ^= s << 17;
+                (s >> 11) as f64 / (1u64 << 53) as f64
+            };
+            'outer: for i in (0..polys.len()).step_by(7) {
+                for j in (i + 1..polys.len()).step_by(3) {
+                    cand.clear();
+                    bvh.candidates_between(&polys[i], &polys[j], &[i as u32, j as u32], &mut cand);
+                    if cand.is_empty() {
+                        continue;
+                    }
+                    let bl: Vec<&Polygon> = cand.iter().map(|&k| &polys[k as usize]).collect();
+                    let v = polys[i].vertices();
+                    for _ in 0..20 {
+                        let (a, b) = (rnd(), rnd());
+                        let x = v[0] + a * (v[1] - v[0]) + b * (v[3] - v[0]);
+                        let f = point_shadowed_view_factor(x, polys[i].normal(), &polys[j], &bl);
+                        evals += 1;
+                        if f > 0.0 {
+                            nonzero += 1;
+                        }
+                        total += f;
+                    }
+                    if evals >= 200_000 {
+                        break 'outer;
+                    }
+                }
+            }
+            let dt = t0.elapsed().as_secs_f64();
+            println!("{evals} evals ({nonzero} shadowed), {:.2} us/eval (incl. candidate queries), checksum {total:.12e}", dt / evals as f64 * 1e6);
+        }
+        "pair" => {
+            let i: usize = args[3].parse().unwrap();
+            let j: usize = args[4].parse().unwrap();
+            let tol: f64 = args.get(5).and_then(|s| s.parse().ok()).unwrap_or(1e-6);
+            let obs: Vec<Polygon> = (0..polys.len()).filter(|&k| k != i && k != j).map(|k| polys[k].clone()).collect();
+            let mut o = AllOptions::default();
+            o.vis.tol = tol;
+            let t0 = Instant::now();
+            let e = nusselt_core::scene::pair_view_factor(polys[i].clone(), polys[j].clone(), obs, AnyMethod::Visible(VisMethod::Auto), &o).unwrap();
+            println!("F {:.15e} in {:.3} s", e.value, t0.elapsed().as_secs_f64());
+        }
+        _ => panic!("mode rows|points|pair"),
+    }
+}
