@@ -124,31 +124,64 @@ pub fn mirror_upper(areas: &[f64], rows: &[UpperRow<'_>], with_std: bool) -> Res
         count[i + 1] += lower[i] + count[i];
     }
     let nnz = count[n] as usize;
-    let mut next_lower: Vec<i64> = count[..n].to_vec();
     let mut indices = vec![0i64; nnz];
     let mut data = vec![0.0f64; nnz];
     let mut sdata = if with_std { vec![0.0f64; nnz] } else { Vec::new() };
-    // Sources in ascending order: the lower entries of each row then arrive column-ascending.
-    for i in 0..n {
-        let Some(k) = by_row[i] else { continue };
-        let r = &rows[k];
-        let mut up = (count[i] + lower[i]) as usize;
-        for (e, (&j, &g)) in r.cols.iter().zip(r.g).enumerate() {
-            let ju = j as usize;
-            let lo = next_lower[ju] as usize;
-            next_lower[ju] += 1;
-            indices[up] = j;
-            data[up] = g / areas[i];
-            indices[lo] = i as i64;
-            data[lo] = g / areas[ju];
-            if with_std {
-                let sd = r.std.map_or(0.0, |s| s[e]);
-                sdata[up] = sd / areas[i];
-                sdata[lo] = sd / areas[ju];
-            }
-            up += 1;
+    // In parallel over ranges of output rows, each owning its slice of the output: rows
+    // [lo, hi) get their lower entries (column k < row, from source rows k ascending: the
+    // run of k's columns inside [lo, hi), found by bisection) and then their upper entries.
+    let parts = 4 * rayon::current_num_threads().max(1);
+    let mut bounds = vec![0usize];
+    for p in 1..parts {
+        let target = (nnz * p / parts) as i64;
+        let b = count.partition_point(|&c| c < target).min(n);
+        if b > *bounds.last().unwrap() {
+            bounds.push(b);
         }
     }
+    bounds.push(n);
+    let mut jobs = Vec::new();
+    let (mut ri, mut rd, mut rs) = (&mut indices[..], &mut data[..], &mut sdata[..]);
+    for w in bounds.windows(2) {
+        let len = (count[w[1]] - count[w[0]]) as usize;
+        let (a, b) = std::mem::take(&mut ri).split_at_mut(len);
+        let (c, d) = std::mem::take(&mut rd).split_at_mut(len);
+        let (e, f) = if with_std { std::mem::take(&mut rs).split_at_mut(len) } else { (&mut [][..], &mut [][..]) };
+        jobs.push((w[0], w[1], a, c, e));
+        (ri, rd, rs) = (b, d, f);
+    }
+    jobs.into_par_iter().for_each(|(lo, hi, ind, dat, sd)| {
+        let base = count[lo] as usize;
+        let mut next: Vec<usize> = (lo..hi).map(|r| count[r] as usize - base).collect();
+        for k in 0..hi {
+            let Some(b) = by_row[k] else { continue };
+            let r = &rows[b];
+            if k >= lo {
+                // upper entries of row k: after its lower ones
+                let mut up = (count[k] + lower[k]) as usize - base;
+                for (e, (&j, &g)) in r.cols.iter().zip(r.g).enumerate() {
+                    ind[up] = j;
+                    dat[up] = g / areas[k];
+                    if with_std {
+                        sd[up] = r.std.map_or(0.0, |s| s[e]) / areas[k];
+                    }
+                    up += 1;
+                }
+            }
+            let from = r.cols.partition_point(|&j| (j as usize) < lo);
+            let to = r.cols.partition_point(|&j| (j as usize) < hi);
+            for e in from..to {
+                let j = r.cols[e] as usize;
+                let at = next[j - lo];
+                next[j - lo] += 1;
+                ind[at] = k as i64;
+                dat[at] = r.g[e] / areas[j];
+                if with_std {
+                    sd[at] = r.std.map_or(0.0, |s| s[e]) / areas[j];
+                }
+            }
+        }
+    });
     let std = with_std.then(|| Csr { indptr: count.clone(), indices: indices.clone(), data: sdata });
     Ok((Csr { indptr: count, indices, data }, std))
 }

@@ -17,6 +17,7 @@ use crate::matrix::{full_rows, upper_pair_rows};
 use crate::method::{self, Method, Options, RuleCache};
 use crate::obstructed::{self, Context, Estimate, VisMethod, VisOptions};
 use crate::visibility::Bvh;
+use rayon::prelude::*;
 use std::str::FromStr;
 use std::sync::atomic::AtomicBool;
 use std::sync::OnceLock;
@@ -109,9 +110,13 @@ impl Scene {
         *self.convex.get_or_init(|| {
             let size: f64 = self.polygons.iter().map(|p| p.radius()).fold(0.0, f64::max);
             let tol = 1e-9 * size.max(f64::MIN_POSITIVE);
-            self.polygons.iter().all(|p| {
-                let (c, n) = (p.centroid(), p.normal());
-                self.polygons.iter().all(|q| q.vertices().iter().all(|v| (*v - c).dot(n) >= -tol))
+            // O(N^2) vertex tests: in parallel, stopping at the first polygon behind another
+            self.polygons.par_iter().all(|p| {
+                let (n, d) = (p.normal(), p.normal().dot(p.centroid()));
+                self.polygons.iter().all(|q| {
+                    // bounding sphere wholly in front: no need to look at the vertices
+                    n.dot(q.centroid()) - d - q.radius() >= -tol || q.vertices().iter().all(|v| n.dot(*v) - d >= -tol)
+                })
             })
         })
     }

@@ -5,6 +5,7 @@ use nusselt_core::matrix::{mirror_upper, UpperRow};
 use nusselt_core::Error;
 use numpy::{IntoPyArray, PyArray1, PyReadonlyArray1};
 use pyo3::prelude::*;
+use std::borrow::Cow;
 
 type Block<'py> = (
     PyReadonlyArray1<'py, i64>,
@@ -27,7 +28,9 @@ pub fn mirror_pairs<'py>(
 ) -> PyResult<Out<'py>> {
     let areas = areas.as_slice()?;
     let col_of = col_of.as_slice()?;
-    let mut mapped: Vec<(usize, Vec<i64>, usize, usize, usize)> = Vec::new(); // row, cols, block, start, end
+    // every polygon a receiver (the usual case): indices need no mapping and no copy
+    let identity = col_of.iter().enumerate().all(|(k, &c)| c == k as i64);
+    let mut mapped: Vec<(usize, Cow<[i64]>, usize, usize, usize)> = Vec::new(); // row, cols, block, start, end
     let mut with_std = false;
     for (b, (rows, indptr, indices, data, std)) in blocks.iter().enumerate() {
         let (rows, indptr, indices, data) = (rows.as_slice()?, indptr.as_slice()?, indices.as_slice()?, data.as_slice()?);
@@ -47,7 +50,11 @@ pub fn mirror_pairs<'py>(
             if s > e || e > indices.len() {
                 return Err(pyo3::exceptions::PyValueError::new_err(format!("block {b}: bad indptr")));
             }
-            let cols = indices[s..e].iter().map(|&j| map(j)).collect::<PyResult<Vec<i64>>>()?;
+            let cols = if identity {
+                Cow::Borrowed(&indices[s..e]) // mirror_upper checks the range
+            } else {
+                Cow::Owned(indices[s..e].iter().map(|&j| map(j)).collect::<PyResult<Vec<i64>>>()?)
+            };
             mapped.push((map(row)? as usize, cols, b, s, e));
         }
     }
@@ -64,7 +71,8 @@ pub fn mirror_pairs<'py>(
             std: slices[*b].1.map(|sd| &sd[*s..*e]),
         })
         .collect();
-    let (f, sd) = py.detach(|| guard(|| -> Result<_, Error> { mirror_upper(areas, &rows, with_std) }))?;
+    let pool = crate::threads::pool();
+    let (f, sd) = py.detach(|| guard(|| -> Result<_, Error> { pool.install(|| mirror_upper(areas, &rows, with_std)) }))?;
     Ok((
         f.indptr.into_pyarray(py),
         f.indices.into_pyarray(py),

@@ -75,8 +75,9 @@ impl SceneCore {
     }
 
     /// True when no polygon of the scene can block another pair.
-    fn unobstructed(&self) -> bool {
-        self.scene.unobstructed()
+    fn unobstructed(&self, py: Python<'_>) -> bool {
+        let pool = pool();
+        py.detach(|| pool.install(|| self.scene.unobstructed()))
     }
 
     /// Pair methods: G_ij = A_i F_ij for the given rows and every receiver j > i, as CSR
