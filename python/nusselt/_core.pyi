@@ -20,7 +20,14 @@ class SceneCore:
     def triangulate(self, k: int) -> list[tuple[int, int, int]]: ...
     def pair_rows(
         self, rows: npt.NDArray[np.int64], method: str, opts: dict
-    ) -> tuple[npt.NDArray[np.int64], npt.NDArray[np.int64], npt.NDArray[np.float64]]: ...
+    ) -> tuple[
+        npt.NDArray[np.int64],
+        npt.NDArray[np.int64],
+        npt.NDArray[np.float64],
+        npt.NDArray[np.float64] | None,
+    ]:
+        """G_ij = A_i F_ij for the rows and receivers j > i as CSR parts (indptr, indices, G,
+        standard errors of G or None for exact methods)."""
     def full_rows(
         self, rows: npt.NDArray[np.int64], method: str, opts: dict
     ) -> tuple[

@@ -72,7 +72,7 @@ fn main() {
                 use std::io::Write;
                 let mut w = std::io::BufWriter::new(std::fs::File::create(path).unwrap());
                 for (i, row) in rows.iter().zip(&r) {
-                    for (j, g, _) in row {
+                    for (j, g, _) in row.iter() {
                         writeln!(w, "{i} {j} {g:.17e} {:.17e}", scene.polygons()[*i].area()).unwrap();
                     }
                 }

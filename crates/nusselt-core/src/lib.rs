@@ -10,11 +10,13 @@ pub mod geometry;
 pub mod hemisphere;
 pub mod matrix;
 pub mod method;
+pub mod moments;
 pub mod obstructed;
 pub mod quadrature;
 pub mod sampling;
 pub mod scene;
 pub mod special;
+pub mod unobstructed_rows;
 pub mod visibility;
 
 pub use error::Error;

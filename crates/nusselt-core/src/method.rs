@@ -1,15 +1,17 @@
 //! Method selection for one pair or one point, unobstructed.
 //!
-//! `auto` picks per pair: a Gauss area rule whose order is chosen from the pair's relative
-//! separation so that the relative error stays below `tol` (cheap, and accurate because the
-//! kernel is smooth when the polygons are far apart compared with their size), or the exact
-//! closed form when the pair is close, touching or straddles a plane.
+//! `auto` picks per pair, from the pair's relative separation, the cheapest rule whose
+//! calibrated relative error stays below `tol` ([`quadrature::FarPlan`]): a Gauss area rule
+//! or the second-moment rule ([`crate::moments`]) when the polygons are far apart compared
+//! with their size (the kernel is smooth there), the exact closed form when the pair is close,
+//! touching or straddles a plane.
 
 use crate::analytic;
 use crate::contour;
 use crate::error::{Error, Result};
 use crate::geometry::{Polygon, Vec3};
-use crate::quadrature::{self, AreaRule, PackedRule};
+use crate::moments::{moment_pair, Moments};
+use crate::quadrature::{self, AreaRule, FarPlan, FarRule, PackedRule};
 use std::sync::OnceLock;
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -61,17 +63,25 @@ impl Options {
 /// Largest Gauss order `auto` uses before it falls back to the exact kernel.
 pub const MAX_AUTO_ORDER: usize = 8;
 
-/// Area rules of one polygon, built on first use per order (shared across threads).
+/// Area rules of one polygon, built on first use per order, and its second moments (shared
+/// across threads).
 pub struct RuleCache {
     rules: Vec<OnceLock<PackedRule>>,
+    moments: Vec<OnceLock<Moments>>,
 }
 
 impl RuleCache {
     pub fn new(n_polygons: usize) -> Self {
-        RuleCache { rules: (0..n_polygons * MAX_AUTO_ORDER).map(|_| OnceLock::new()).collect() }
+        RuleCache {
+            rules: (0..n_polygons * MAX_AUTO_ORDER).map(|_| OnceLock::new()).collect(),
+            moments: (0..n_polygons).map(|_| OnceLock::new()).collect(),
+        }
     }
     fn get<'a>(&'a self, id: usize, poly: &Polygon, order: usize) -> &'a PackedRule {
         self.rules[id * MAX_AUTO_ORDER + order - 1].get_or_init(|| PackedRule::new(&AreaRule::new(poly, order), poly))
+    }
+    pub fn moments<'a>(&'a self, id: usize, poly: &Polygon) -> &'a Moments {
+        self.moments[id].get_or_init(|| Moments::new(poly))
     }
 }
 
@@ -150,25 +160,34 @@ pub fn area_factor_facing(
                 return Ok(0.0);
             }
             if f == Facing::Full {
-                if let Some(order) = quadrature::far_field_order(relative_separation(a, b), opts.tol) {
-                    if order <= MAX_AUTO_ORDER {
-                        let g = match cache {
-                            Some((c, ia, ib)) => {
-                                quadrature::far_pair(c.get(ia, a, order), a.normal(), c.get(ib, b, order), b.normal())
-                            }
-                            None => quadrature::far_pair(
-                                &PackedRule::new(&AreaRule::new(a, order), a),
-                                a.normal(),
-                                &PackedRule::new(&AreaRule::new(b, order), b),
-                                b.normal(),
-                            ),
-                        };
-                        return Ok(g);
-                    }
-                }
+                // squared distance and radius sum exactly as the scene loop forms them, so a
+                // pair on a threshold gets the same rule in both
+                let (d, rsum) = (b.centroid() - a.centroid(), a.radius() + b.radius());
+                let rule = FarPlan::cached(opts.tol).rule_sq(d.dot(d), rsum * rsum);
+                return Ok(full_facing_pair(a, b, rule, cache));
             }
             Ok(analytic::polygon_pair(a, b))
         }
+    }
+}
+
+/// A_a F_ab of a fully facing, unobstructed pair by `rule` (from a [`FarPlan`]).
+pub fn full_facing_pair(a: &Polygon, b: &Polygon, rule: FarRule, cache: Option<(&RuleCache, usize, usize)>) -> f64 {
+    match rule {
+        FarRule::Gauss(order) if order <= MAX_AUTO_ORDER => match cache {
+            Some((c, ia, ib)) => quadrature::far_pair(c.get(ia, a, order), a.normal(), c.get(ib, b, order), b.normal()),
+            None => quadrature::far_pair(
+                &PackedRule::new(&AreaRule::new(a, order), a),
+                a.normal(),
+                &PackedRule::new(&AreaRule::new(b, order), b),
+                b.normal(),
+            ),
+        },
+        FarRule::Moment => match cache {
+            Some((c, ia, ib)) => moment_pair(c.moments(ia, a), c.moments(ib, b)),
+            None => moment_pair(&Moments::new(a), &Moments::new(b)),
+        },
+        FarRule::Gauss(_) | FarRule::Exact => analytic::polygon_pair(a, b),
     }
 }
 

@@ -434,7 +434,7 @@ fn far_pair_body(a: &PackedRule, na: Vec3, b: &PackedRule, nb: Vec3) -> f64 {
 
 /// Calibrated worst-case relative errors (rows: FAR_SEPS; columns: orders 1..=MAX_FAR_ORDER),
 /// printed by `calibrate_far_field`.
-const FAR_SEPS: &[f64] = &[1.05, 1.1, 1.2, 1.3, 1.4, 1.5, 1.75, 2.0, 2.5, 3.0, 4.0, 5.0, 6.0, 8.0, 10.0, 12.0, 16.0, 24.0, 32.0, 48.0, 64.0, 96.0, 128.0, 256.0, 512.0, 1024.0];
+pub(crate) const FAR_SEPS: &[f64] = &[1.05, 1.1, 1.2, 1.3, 1.4, 1.5, 1.75, 2.0, 2.5, 3.0, 4.0, 5.0, 6.0, 8.0, 10.0, 12.0, 16.0, 24.0, 32.0, 48.0, 64.0, 96.0, 128.0, 256.0, 512.0, 1024.0];
 #[rustfmt::skip]
 const FAR_ERRS: &[[f64; MAX_FAR_ORDER]] = &[
     [8.9e-01, 6.4e-01, 4.4e-01, 2.8e-01, 1.7e-01, 9.4e-02, 5.1e-02, 2.7e-02, 1.4e-02, 6.9e-03, 3.4e-03, 1.7e-03, 8.2e-04, 4.0e-04, 1.9e-04, 9.2e-05], // 1.05
@@ -464,6 +464,42 @@ const FAR_ERRS: &[[f64; MAX_FAR_ORDER]] = &[
     [1.7e-03, 3.5e-07, 1.9e-13, 8.7e-15, 7.2e-15, 4.3e-15, 7.1e-15, 4.3e-15, 6.0e-15, 5.9e-15, 6.8e-15, 9.3e-15, 1.1e-14, 1.0e-14, 1.1e-14, 1.5e-14], // 512
     [6.9e-04, 1.5e-07, 5.6e-14, 1.8e-15, 2.6e-15, 2.8e-15, 2.7e-15, 3.4e-15, 3.7e-15, 5.4e-15, 9.2e-15, 6.4e-15, 4.9e-15, 6.2e-15, 9.2e-15, 1.1e-14], // 1024
 ];
+
+/// Calibrated worst-case relative errors of the second-moment rule
+/// ([`crate::moments::moment_pair`]) per FAR_SEPS row, printed by `calibrate_moment_rule`
+/// (the same random pairs as FAR_ERRS; reference: compensated Gauss order 24/20 below s = 2,
+/// 20/16 above, its uncertainty added). Worst cases decay about as s^-2: third-order terms
+/// (triangles, concave shapes) and pairs resting on each other's plane.
+#[rustfmt::skip]
+const MOMENT_ERRS: &[f64] = &[
+    7.6e-1, // 1.05
+    7.6e-1, // 1.1
+    4.4e-1, // 1.2
+    3.7e-1, // 1.3
+    3.5e-1, // 1.4
+    2.4e-1, // 1.5
+    2.6e-1, // 1.75
+    8.0e-2, // 2
+    6.0e-2, // 2.5
+    6.2e-2, // 3
+    1.7e-2, // 4
+    1.7e-2, // 5
+    9.4e-3, // 6
+    3.7e-3, // 8
+    2.9e-3, // 10
+    1.2e-3, // 12
+    6.7e-4, // 16
+    5.1e-4, // 24
+    3.6e-4, // 32
+    9.0e-5, // 48
+    5.9e-5, // 64
+    2.2e-5, // 96
+    1.4e-5, // 128
+    3.5e-6, // 256
+    1.5e-6, // 512
+    2.9e-7, // 1024
+];
+const _: () = assert!(MOMENT_ERRS.len() == FAR_SEPS.len());
 
 // far_field_order's per-thread order table has room for 32 rows
 const _: () = assert!(FAR_SEPS.len() <= 32);
@@ -565,6 +601,107 @@ pub fn far_field_order(rel_sep: f64, rel_tol: f64) -> Option<usize> {
         ORDERS.set((rel_tol.to_bits(), table));
     }
     (table[row] > 0).then_some(table[row] as usize)
+}
+
+/// How `auto` integrates one unobstructed, fully facing pair (see [`FarPlan`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum FarRule {
+    /// Tensor Gauss rule of this order on both polygons ([`far_pair`]).
+    Gauss(usize),
+    /// The second-moment rule ([`crate::moments::moment_pair`]): one division per pair.
+    Moment,
+    /// Too close for any calibrated rule: an exact kernel.
+    Exact,
+}
+
+/// The rule choice of `auto` for one accuracy target, as separation thresholds: every rule is
+/// admissible from a relative separation on (the calibrated worst-case errors times
+/// FAR_SAFETY, over this and all larger separations, are below the target), and the cheapest
+/// admissible one is used: Gauss order 1, then the moment rule, then Gauss orders 2, 3, ...
+/// The Gauss choice equals [`far_field_order`]'s. Built once per tolerance; [`FarPlan::rule`]
+/// is a few comparisons, and [`FarPlan::rule_sq`] needs no square root.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FarPlan {
+    tol: f64,
+    /// Smallest relative separation from which Gauss order n + 1 is admissible (inf: never).
+    gauss: [f64; MAX_FAR_ORDER],
+    moment: f64,
+    /// The same thresholds squared.
+    gauss_sq: [f64; MAX_FAR_ORDER],
+    moment_sq: f64,
+}
+
+impl FarPlan {
+    pub fn new(rel_tol: f64) -> FarPlan {
+        let mut gauss = [f64::INFINITY; MAX_FAR_ORDER];
+        let mut moment = f64::INFINITY;
+        if rel_tol.is_finite() && rel_tol > 0.0 && FLOOR * FAR_SAFETY <= rel_tol {
+            let last = FAR_SEPS.len() - 1;
+            // the first row from which every larger one is admissible; beyond the table, the
+            // extrapolation of far_field_order solved for the separation
+            let threshold = |errs: &dyn Fn(usize) -> f64, decay: i32| -> f64 {
+                let mut from = None;
+                for r in (0..=last).rev() {
+                    if errs(r) * FAR_SAFETY > rel_tol {
+                        break;
+                    }
+                    from = Some(r);
+                }
+                match from {
+                    Some(r) => FAR_SEPS[r],
+                    None => FAR_SEPS[last] * (errs(last) * FAR_SAFETY / rel_tol).powf(1.0 / decay as f64),
+                }
+            };
+            for n in 1..=MAX_FAR_ORDER {
+                gauss[n - 1] = threshold(&|r| FAR_ERRS[r][n - 1].max(FLOOR), (2 * n as i32 - 3).max(1));
+            }
+            moment = threshold(&|r| MOMENT_ERRS[r].max(FLOOR), 1);
+        }
+        FarPlan { tol: rel_tol, gauss, moment, gauss_sq: gauss.map(|t| t * t), moment_sq: moment * moment }
+    }
+
+    /// The plan for `rel_tol`, built once per thread and tolerance.
+    pub fn cached(rel_tol: f64) -> std::rc::Rc<FarPlan> {
+        thread_local! {
+            static PLAN: std::cell::RefCell<Option<std::rc::Rc<FarPlan>>> = const { std::cell::RefCell::new(None) };
+        }
+        PLAN.with(|p| {
+            let mut p = p.borrow_mut();
+            match &*p {
+                Some(plan) if plan.tol.to_bits() == rel_tol.to_bits() => plan.clone(),
+                _ => {
+                    let plan = std::rc::Rc::new(FarPlan::new(rel_tol));
+                    *p = Some(plan.clone());
+                    plan
+                }
+            }
+        })
+    }
+
+    pub fn tol(&self) -> f64 {
+        self.tol
+    }
+
+    /// The rule for relative separation `rel_sep` = |c_a - c_b| / (r_a + r_b).
+    pub fn rule(&self, rel_sep: f64) -> FarRule {
+        if !rel_sep.is_finite() {
+            return FarRule::Exact;
+        }
+        self.rule_sq(rel_sep * rel_sep, 1.0)
+    }
+
+    /// [`FarPlan::rule`] from the squared centroid distance and the squared radius sum (no
+    /// square root: scene loops call this for every pair).
+    #[inline]
+    pub fn rule_sq(&self, dist_sq: f64, radii_sq: f64) -> FarRule {
+        if dist_sq >= self.gauss_sq[0] * radii_sq {
+            return FarRule::Gauss(1);
+        }
+        if dist_sq >= self.moment_sq * radii_sq {
+            return FarRule::Moment;
+        }
+        (1..MAX_FAR_ORDER).find(|&n| dist_sq >= self.gauss_sq[n] * radii_sq).map_or(FarRule::Exact, |n| FarRule::Gauss(n + 1))
+    }
 }
 
 #[cfg(test)]
@@ -843,6 +980,46 @@ pub(crate) mod tests {
 
     /// The order chosen by far_field_order meets the tolerance on random pairs (other seed
     /// than the calibration), against a compensated high-order reference.
+    #[test]
+    fn far_plan_agrees_with_far_field_order_and_meets_tolerance() {
+        // the Gauss choice is far_field_order's wherever the moment rule is not cheaper
+        for &tol in &[0.1, 0.03, 1e-3, 1e-6, 1e-10, 1e-13] {
+            let plan = FarPlan::new(tol);
+            for k in 0..400 {
+                let s = (1.0f64.ln() + (5000f64.ln() - 1.0f64.ln()) * k as f64 / 400.0).exp();
+                let rule = plan.rule(s);
+                let want = far_field_order(s, tol);
+                match rule {
+                    FarRule::Gauss(n) => assert_eq!(Some(n), want, "tol {tol:e}, s {s}"),
+                    FarRule::Exact => assert_eq!(want, None, "tol {tol:e}, s {s}"),
+                    // the moment rule replaces Gauss orders >= 2 only
+                    FarRule::Moment => assert!(want.is_some_and(|n| n >= 2), "tol {tol:e}, s {s}: {want:?}"),
+                }
+                // the squared form decides the same
+                assert_eq!(plan.rule_sq(s * s * 4.0, 4.0), rule);
+            }
+        }
+        assert_eq!(FarPlan::new(1e-16).rule(1e6), FarRule::Exact);
+        assert_eq!(FarPlan::new(1e-6).rule(f64::NAN), FarRule::Exact);
+        // where the plan picks the moment rule, it meets the target on random pairs
+        let mut rng = Rng(99);
+        let mut checked = 0;
+        for k in 0..60 {
+            let s = (2f64.ln() + (2000f64.ln() - 2f64.ln()) * (k as f64 + rng.unit()) / 60.0).exp();
+            let (a, b) = random_far_pair(&mut rng, s);
+            let r = reference_aff(&a, &b, 20);
+            for &tol in &[0.1, 0.03, 1e-2, 1e-3, 1e-4] {
+                if FarPlan::new(tol).rule(s) == FarRule::Moment {
+                    let (ma, mb) = (crate::moments::Moments::new(&a), crate::moments::Moments::new(&b));
+                    let e = (crate::moments::moment_pair(&ma, &mb) - r).abs() / r;
+                    assert!(e <= tol, "s {s}, tol {tol:e}: moment rule error {e:.2e}");
+                    checked += 1;
+                }
+            }
+        }
+        assert!(checked >= 20, "only {checked} moment-rule cases");
+    }
+
     #[test]
     fn far_field_order_meets_tolerance() {
         let mut rng = Rng(77);

@@ -16,6 +16,7 @@ use crate::hemisphere::{
 use crate::matrix::{full_rows, upper_pair_rows};
 use crate::method::{self, Method, Options, RuleCache};
 use crate::obstructed::{self, Context, Estimate, VisMethod, VisOptions};
+use crate::unobstructed_rows;
 use crate::visibility::Bvh;
 use rayon::prelude::*;
 use std::str::FromStr;
@@ -84,8 +85,29 @@ pub struct Scene {
     convex: OnceLock<bool>,
 }
 
-/// One finished pair row: (j, G_ij, standard error of G_ij).
-pub type PairRow = Vec<(u32, f64, f64)>;
+/// One finished pair row: columns j, G_ij and, for sampled methods, the standard errors of
+/// G_ij (None: the method is exact up to its tolerance).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct PairRow {
+    pub cols: Vec<u32>,
+    pub g: Vec<f64>,
+    pub std: Option<Vec<f64>>,
+}
+
+impl PairRow {
+    pub fn len(&self) -> usize {
+        self.cols.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.cols.is_empty()
+    }
+
+    /// (j, G_ij, standard error or 0).
+    pub fn iter(&self) -> impl Iterator<Item = (u32, f64, f64)> + '_ {
+        (0..self.len()).map(|k| (self.cols[k], self.g[k], self.std.as_ref().map_or(0.0, |s| s[k])))
+    }
+}
 
 impl Scene {
     pub fn new(polygons: Vec<Polygon>, receiver: Vec<bool>) -> Result<Self> {
@@ -153,16 +175,7 @@ impl Scene {
                 })
             }
             AnyMethod::Visible(VisMethod::Auto) if free => {
-                return upper_pair_rows(n, rows, &self.receiver, cancel, |_, _| false, |i, j| {
-                    // one facing test per pair: it both skips and selects the rule
-                    let f = method::facing(&p[i], &p[j]);
-                    if f == method::Facing::None {
-                        return Ok(None);
-                    }
-                    let g = method::area_factor_facing(&p[i], &p[j], f, Method::Auto, &o.exact, Some((&self.rules, i, j)))?;
-                    Ok((g != 0.0).then_some((g, 0.0)))
-                })
-                .map(|rows| rows.into_iter().map(|r| r.into_iter().map(|(j, (g, s))| (j, g, s)).collect()).collect());
+                return unobstructed_rows::pair_rows(p, &self.receiver, &self.rules, rows, o.exact.tol, cancel);
             }
             AnyMethod::Visible(vm) => {
                 let ctx = self.context()?;
@@ -175,7 +188,15 @@ impl Scene {
             let e = est(i, j)?;
             Ok((e.value != 0.0 || e.std_err != 0.0).then_some((e.value, e.std_err)))
         })
-        .map(|rows| rows.into_iter().map(|r| r.into_iter().map(|(j, (g, s))| (j, g, s)).collect()).collect())
+        .map(|rows| {
+            rows.into_iter()
+                .map(|r| PairRow {
+                    cols: r.iter().map(|e| e.0).collect(),
+                    g: r.iter().map(|e| e.1 .0).collect(),
+                    std: Some(r.iter().map(|e| e.1 .1).collect()),
+                })
+                .collect()
+        })
     }
 
     /// Whole rows F_i. by hemisphere sampling.
