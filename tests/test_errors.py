@@ -89,7 +89,8 @@ def test_result_assembly_rejects_malformed_blocks():
     areas = np.ones(3)
     col_of = np.arange(3, dtype=np.int64)
     i64 = lambda *v: np.array(v, dtype=np.int64)
-    good = (i64(0), i64(0, 2), i64(1, 2), np.array([0.2, 0.3]), None)
+    i32 = lambda *v: np.array(v, dtype=np.int32)
+    good = (i64(0), i64(0, 2), i32(1, 2), np.array([0.2, 0.3]), None)
     indptr, idx, f, sd = _core.mirror_pairs(areas, col_of, [good])
     assert sd is None
     dense = np.zeros((3, 3))
@@ -97,11 +98,11 @@ def test_result_assembly_rejects_malformed_blocks():
         dense[r, idx[indptr[r]:indptr[r + 1]]] = f[indptr[r]:indptr[r + 1]]
     assert np.array_equal(dense, [[0, 0.2, 0.3], [0.2, 0, 0], [0.3, 0, 0]])
     bad = [
-        (i64(0), i64(0, 3), i64(1, 2), np.array([0.2, 0.3]), None),  # indptr beyond the entries
-        (i64(0), i64(0, 2), i64(1), np.array([0.2, 0.3]), None),  # fewer columns than values
-        (i64(1), i64(0, 1), i64(0), np.array([0.2]), None),  # below the diagonal
-        (i64(0), i64(0, 1), i64(5), np.array([0.2]), None),  # not a polygon
-        (i64(0), i64(0, 2), i64(2, 1), np.array([0.2, 0.3]), None),  # columns not ascending
+        (i64(0), i64(0, 3), i32(1, 2), np.array([0.2, 0.3]), None),  # indptr beyond the entries
+        (i64(0), i64(0, 2), i32(1), np.array([0.2, 0.3]), None),  # fewer columns than values
+        (i64(1), i64(0, 1), i32(0), np.array([0.2]), None),  # below the diagonal
+        (i64(0), i64(0, 1), i32(5), np.array([0.2]), None),  # not a polygon
+        (i64(0), i64(0, 2), i32(2, 1), np.array([0.2, 0.3]), None),  # columns not ascending
     ]
     for block in bad:
         with pytest.raises(ValueError):

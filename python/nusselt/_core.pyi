@@ -22,7 +22,7 @@ class SceneCore:
         self, rows: npt.NDArray[np.int64], method: str, opts: dict
     ) -> tuple[
         npt.NDArray[np.int64],
-        npt.NDArray[np.int64],
+        npt.NDArray[np.int32],
         npt.NDArray[np.float64],
         npt.NDArray[np.float64] | None,
     ]:
@@ -45,12 +45,12 @@ def mirror_pairs(
         tuple[
             npt.NDArray[np.int64],
             npt.NDArray[np.int64],
-            npt.NDArray[np.int64],
+            npt.NDArray[np.int32],
             npt.NDArray[np.float64],
             npt.NDArray[np.float64] | None,
         ]
     ],
-) -> tuple[npt.NDArray[np.int64], npt.NDArray[np.int64], npt.NDArray[np.float64], npt.NDArray[np.float64] | None]: ...
+) -> tuple[npt.NDArray[np.int64], npt.NDArray[np.int32], npt.NDArray[np.float64], npt.NDArray[np.float64] | None]: ...
 def view_factor(
     a: npt.NDArray[np.float64],
     b: npt.NDArray[np.float64],

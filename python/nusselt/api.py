@@ -183,6 +183,10 @@ def _stack_blocks(done: list, col_of: np.ndarray, nr: int):
 
 
 def _canonical_csr(data, idx, indptr, nr):
+    # scipy keeps index arrays as given only when both have one dtype: int32 (idx's dtype)
+    # while the entries fit, so the big idx array is not copied
+    if idx.dtype == np.int32 and indptr[-1] <= np.iinfo(np.int32).max:
+        indptr = indptr.astype(np.int32)
     m = sp.csr_array((data, idx, indptr), shape=(nr, nr))
     m.has_sorted_indices = True
     m.has_canonical_format = True
@@ -193,7 +197,8 @@ def _assemble_pairs(done, col_of, areas):
     """Pair methods return the upper triangle of the symmetric G = A_i F_ij: the core mirrors
     it and divides each row by its area in one pass (F_ij = G_ij / A_i, F_ji = G_ij / A_j)."""
     nr = len(areas)
-    blocks = [(b.rows, b.indptr, b.indices, b.data, b.std) for b in done]
+    # column indices are int32 (checkpoints of older versions may hold int64: converted)
+    blocks = [(b.rows, b.indptr, np.asarray(b.indices, dtype=np.int32), b.data, b.std) for b in done]
     indptr, idx, f, sd = _core.mirror_pairs(np.ascontiguousarray(areas, dtype=np.float64), col_of, blocks)
     matrix = _canonical_csr(f, idx, indptr, nr)
     std = _canonical_csr(sd, idx.copy(), indptr.copy(), nr) if sd is not None else None

@@ -77,10 +77,81 @@ fn check_rows(n: usize, rows: &[usize], receiver: &[bool]) -> Result<()> {
 }
 
 /// A square sparse matrix in compressed sparse row form, columns ascending within each row.
+/// One finished pair row: columns j, G_ij and, for sampled methods, the standard errors of
+/// G_ij (None: the method is exact up to its tolerance).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct PairRow {
+    pub cols: Vec<u32>,
+    pub g: Vec<f64>,
+    pub std: Option<Vec<f64>>,
+}
+
+impl PairRow {
+    pub fn len(&self) -> usize {
+        self.cols.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.cols.is_empty()
+    }
+
+    /// (j, G_ij, standard error or 0).
+    pub fn iter(&self) -> impl Iterator<Item = (u32, f64, f64)> + '_ {
+        (0..self.len()).map(|k| (self.cols[k], self.g[k], self.std.as_ref().map_or(0.0, |s| s[k])))
+    }
+}
+
+/// Finished pair rows as CSR parts over those rows: what the Python layer stores per block.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct PairBlock {
+    pub indptr: Vec<i64>,
+    pub cols: Vec<i32>,
+    pub g: Vec<f64>,
+    /// Standard errors of G when some row has them (zeros for the rows that have none).
+    pub std: Option<Vec<f64>>,
+}
+
+/// The rows' entries laid end to end, copied in parallel (the copy of a big block is
+/// dominated by first touches of fresh memory, which then happen on every thread).
+pub fn flatten_pair_rows(rows: &[PairRow]) -> PairBlock {
+    let mut indptr = Vec::with_capacity(rows.len() + 1);
+    indptr.push(0i64);
+    for r in rows {
+        indptr.push(indptr.last().unwrap() + r.len() as i64);
+    }
+    let nnz = *indptr.last().unwrap() as usize;
+    let with_std = rows.iter().any(|r| r.std.is_some());
+    let mut cols = vec![0i32; nnz];
+    let mut g = vec![0.0f64; nnz];
+    let mut std = if with_std { vec![0.0f64; nnz] } else { Vec::new() };
+    // each row's destination slices, split off front to back
+    let mut jobs = Vec::with_capacity(rows.len());
+    let (mut rc, mut rg, mut rs) = (&mut cols[..], &mut g[..], &mut std[..]);
+    for r in rows {
+        let len = r.len();
+        let (a, b) = std::mem::take(&mut rc).split_at_mut(len);
+        let (c, d) = std::mem::take(&mut rg).split_at_mut(len);
+        let (e, f) = if with_std { std::mem::take(&mut rs).split_at_mut(len) } else { (&mut [][..], &mut [][..]) };
+        jobs.push((r, a, c, e));
+        (rc, rg, rs) = (b, d, f);
+    }
+    jobs.into_par_iter().with_min_len(64).for_each(|(r, c, gg, sd)| {
+        for (dst, &j) in c.iter_mut().zip(&r.cols) {
+            *dst = j as i32;
+        }
+        gg.copy_from_slice(&r.g);
+        if let Some(s) = &r.std {
+            sd.copy_from_slice(s);
+        }
+    });
+    PairBlock { indptr, cols, g, std: with_std.then_some(std) }
+}
+
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct Csr {
     pub indptr: Vec<i64>,
-    pub indices: Vec<i64>,
+    /// Column indices: i32 like scipy's default, half the memory of i64 (n < 2^31 always).
+    pub indices: Vec<i32>,
     pub data: Vec<f64>,
 }
 
@@ -88,7 +159,7 @@ pub struct Csr {
 /// entries (column j > row, ascending; G_ij; optionally the standard error of G_ij).
 pub struct UpperRow<'a> {
     pub row: usize,
-    pub cols: &'a [i64],
+    pub cols: &'a [i32],
     pub g: &'a [f64],
     pub std: Option<&'a [f64]>,
 }
@@ -99,6 +170,9 @@ pub struct UpperRow<'a> {
 pub fn mirror_upper(areas: &[f64], rows: &[UpperRow<'_>], with_std: bool) -> Result<(Csr, Option<Csr>)> {
     let n = areas.len();
     let bad = |what: String| Err(Error::InvalidArgument(what));
+    if n > i32::MAX as usize {
+        return bad(format!("{n} rows: more than a CSR with i32 indices holds"));
+    }
     let mut by_row: Vec<Option<usize>> = vec![None; n];
     let mut count = vec![0i64; n + 1];
     let mut lower = vec![0i64; n];
@@ -112,6 +186,7 @@ pub fn mirror_upper(areas: &[f64], rows: &[UpperRow<'_>], with_std: bool) -> Res
         by_row[r.row] = Some(k);
         let mut prev = r.row as i64;
         for &j in r.cols {
+            let j = j as i64;
             if j <= prev || j >= n as i64 {
                 return bad(format!("row {}: columns must ascend above the diagonal and be < {n}", r.row));
             }
@@ -124,7 +199,7 @@ pub fn mirror_upper(areas: &[f64], rows: &[UpperRow<'_>], with_std: bool) -> Res
         count[i + 1] += lower[i] + count[i];
     }
     let nnz = count[n] as usize;
-    let mut indices = vec![0i64; nnz];
+    let mut indices = vec![0i32; nnz];
     let mut data = vec![0.0f64; nnz];
     let mut sdata = if with_std { vec![0.0f64; nnz] } else { Vec::new() };
     // In parallel over ranges of output rows, each owning its slice of the output: rows
@@ -157,15 +232,17 @@ pub fn mirror_upper(areas: &[f64], rows: &[UpperRow<'_>], with_std: bool) -> Res
             let Some(b) = by_row[k] else { continue };
             let r = &rows[b];
             if k >= lo {
-                // upper entries of row k: after its lower ones
-                let mut up = (count[k] + lower[k]) as usize - base;
-                for (e, (&j, &g)) in r.cols.iter().zip(r.g).enumerate() {
-                    ind[up] = j;
-                    dat[up] = g / areas[k];
-                    if with_std {
-                        sd[up] = r.std.map_or(0.0, |s| s[e]) / areas[k];
+                // upper entries of row k, after its lower ones: contiguous, so plain copies
+                let (up, m, a) = ((count[k] + lower[k]) as usize - base, r.cols.len(), areas[k]);
+                ind[up..up + m].copy_from_slice(r.cols);
+                for (d, &g) in dat[up..up + m].iter_mut().zip(r.g) {
+                    *d = g / a;
+                }
+                if with_std {
+                    match r.std {
+                        Some(s) => sd[up..up + m].iter_mut().zip(s).for_each(|(d, &v)| *d = v / a),
+                        None => sd[up..up + m].fill(0.0),
                     }
-                    up += 1;
                 }
             }
             let from = r.cols.partition_point(|&j| (j as usize) < lo);
@@ -174,7 +251,7 @@ pub fn mirror_upper(areas: &[f64], rows: &[UpperRow<'_>], with_std: bool) -> Res
                 let j = r.cols[e] as usize;
                 let at = next[j - lo];
                 next[j - lo] += 1;
-                ind[at] = k as i64;
+                ind[at] = k as i32;
                 dat[at] = r.g[e] / areas[j];
                 if with_std {
                     sd[at] = r.std.map_or(0.0, |s| s[e]) / areas[j];
@@ -212,9 +289,9 @@ mod tests {
     fn mirror_upper_builds_symmetric_g_over_areas() {
         // G upper: (0,1)=2, (0,3)=6, (1,2)=4, (2,3)=8; row 2 given before row 0
         let areas = [1.0, 2.0, 4.0, 8.0];
-        let (c0, g0, s0) = ([1i64, 3], [2.0, 6.0], [0.1, 0.3]);
-        let (c1, g1, s1) = ([2i64], [4.0], [0.2]);
-        let (c2, g2, s2) = ([3i64], [8.0], [0.4]);
+        let (c0, g0, s0) = ([1i32, 3], [2.0, 6.0], [0.1, 0.3]);
+        let (c1, g1, s1) = ([2i32], [4.0], [0.2]);
+        let (c2, g2, s2) = ([3i32], [8.0], [0.4]);
         let rows = [
             UpperRow { row: 2, cols: &c2, g: &g2, std: Some(&s2) },
             UpperRow { row: 0, cols: &c0, g: &g0, std: Some(&s0) },
@@ -239,7 +316,7 @@ mod tests {
         assert_eq!(s.indices, f.indices);
         assert_eq!(s.data[0], 0.1 / 1.0); // row 0, column 1
         // malformed input is an error, not a panic
-        let bad = [UpperRow { row: 1, cols: &[0i64], g: &[1.0], std: None }];
+        let bad = [UpperRow { row: 1, cols: &[0i32], g: &[1.0], std: None }];
         assert!(mirror_upper(&areas, &bad, false).is_err());
         let twice = [UpperRow { row: 0, cols: &[], g: &[], std: None }, UpperRow { row: 0, cols: &[], g: &[], std: None }];
         assert!(mirror_upper(&areas, &twice, false).is_err());

@@ -163,7 +163,8 @@ pub fn area_factor_facing(
                 // squared distance and radius sum exactly as the scene loop forms them, so a
                 // pair on a threshold gets the same rule in both
                 let (d, rsum) = (b.centroid() - a.centroid(), a.radius() + b.radius());
-                let rule = FarPlan::cached(opts.tol).rule_sq(d.dot(d), rsum * rsum);
+                let regular = quadrature::is_regular_quad(a) && quadrature::is_regular_quad(b);
+                let rule = FarPlan::cached(opts.tol).rule_sq(d.dot(d), rsum * rsum, regular);
                 return Ok(full_facing_pair(a, b, rule, cache));
             }
             Ok(analytic::polygon_pair(a, b))

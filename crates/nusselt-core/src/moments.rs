@@ -77,7 +77,7 @@ impl Moments {
 /// A_a F_ab by the second-moment rule (see the module docs); valid for a pair in which each
 /// polygon lies in the other's closed front half-space and far apart compared with its size.
 /// Symmetric in a and b up to rounding.
-#[inline]
+#[inline(always)]
 pub fn moment_pair(a: &Moments, b: &Moments) -> f64 {
     let d = b.centroid - a.centroid;
     let t = 1.0 / d.dot(d);

@@ -501,6 +501,71 @@ const MOMENT_ERRS: &[f64] = &[
 ];
 const _: () = assert!(MOMENT_ERRS.len() == FAR_SEPS.len());
 
+/// FAR_ERRS and MOMENT_ERRS for pairs of regular quads ([`is_regular_quad`]), printed by
+/// `calibrate_regular_quads`: the same generator with parallelogram outlines (side ratio
+/// 1/4..1, corner angles 45°..135°); references as for FAR_ERRS (reference uncertainty at
+/// most 2.4e-15). The worst cases are the pairs resting on each other's plane and the large
+/// size ratios, so the gain over the general tables is modest at moderate separations.
+#[rustfmt::skip]
+const REGULAR_FAR_ERRS: &[[f64; MAX_FAR_ORDER]] = &[
+    [8.4e-1, 4.5e-1, 2.0e-1, 8.2e-2, 3.0e-2, 9.8e-3, 3.0e-3, 8.3e-4, 2.1e-4, 4.9e-5, 1.2e-5, 4.2e-6, 1.2e-6, 4.0e-7, 1.3e-7, 2.6e-8], // 1.05
+    [8.4e-1, 4.8e-1, 1.9e-1, 6.2e-2, 1.8e-2, 5.0e-3, 1.2e-3, 2.7e-4, 4.8e-5, 8.5e-6, 2.7e-6, 1.5e-6, 6.8e-7, 2.6e-7, 9.3e-8, 3.1e-8], // 1.1
+    [8.6e-1, 4.3e-1, 1.7e-1, 5.4e-2, 1.6e-2, 4.8e-3, 1.4e-3, 3.9e-4, 1.1e-4, 2.9e-5, 7.9e-6, 2.1e-6, 5.7e-7, 1.5e-7, 4.0e-8, 1.0e-8], // 1.2
+    [6.1e-1, 1.7e-1, 4.0e-2, 8.9e-3, 1.4e-3, 1.8e-4, 1.9e-5, 2.5e-6, 3.3e-7, 4.3e-8, 7.7e-9, 1.0e-9, 1.6e-10, 3.7e-11, 2.6e-12, 1.2e-12], // 1.3
+    [8.1e-1, 3.6e-1, 9.7e-2, 2.1e-2, 4.2e-3, 7.8e-4, 1.4e-4, 2.4e-5, 4.0e-6, 6.6e-7, 1.1e-7, 1.7e-8, 2.7e-9, 4.2e-10, 6.4e-11, 9.9e-12], // 1.4
+    [6.5e-1, 1.7e-1, 3.0e-2, 4.2e-3, 4.9e-4, 5.1e-5, 4.8e-6, 3.9e-7, 2.6e-8, 2.6e-9, 2.4e-10, 2.0e-11, 4.4e-12, 3.2e-13, 3.6e-14, 2.0e-14], // 1.5
+    [6.9e-1, 1.9e-1, 3.0e-2, 3.8e-3, 4.1e-4, 4.0e-5, 3.7e-6, 3.1e-7, 2.6e-8, 2.0e-9, 1.6e-10, 1.2e-11, 9.0e-13, 6.9e-14, 2.0e-14, 2.0e-14], // 1.75
+    [4.6e-1, 4.7e-2, 3.9e-3, 2.8e-4, 1.9e-5, 1.1e-6, 6.0e-8, 3.1e-9, 1.4e-10, 6.7e-12, 5.0e-13, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14], // 2
+    [4.3e-1, 3.7e-2, 1.7e-3, 5.7e-5, 1.4e-6, 4.3e-8, 2.1e-9, 4.3e-11, 1.6e-12, 8.3e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14], // 2.5
+    [2.6e-1, 9.9e-3, 2.3e-4, 4.7e-6, 1.7e-7, 5.0e-9, 6.0e-11, 2.0e-12, 8.5e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14], // 3
+    [1.6e-1, 2.8e-3, 3.5e-5, 6.9e-7, 6.9e-9, 1.1e-10, 2.1e-12, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14], // 4
+    [1.6e-1, 3.7e-3, 5.1e-5, 5.0e-7, 3.9e-9, 2.4e-11, 1.3e-13, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14], // 5
+    [1.3e-1, 1.4e-3, 5.4e-6, 3.3e-8, 2.1e-10, 1.3e-12, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14], // 6
+    [1.2e-1, 9.9e-4, 3.1e-6, 1.1e-8, 6.3e-11, 1.1e-13, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14], // 8
+    [6.8e-2, 3.4e-4, 7.4e-7, 1.8e-9, 4.1e-12, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14], // 10
+    [4.9e-2, 1.3e-4, 1.4e-7, 3.0e-10, 4.7e-13, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14], // 12
+    [5.8e-2, 1.5e-4, 1.9e-7, 1.6e-10, 8.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14], // 16
+    [3.6e-2, 2.9e-5, 8.7e-9, 3.7e-12, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14], // 24
+    [2.8e-2, 1.9e-5, 6.9e-9, 1.8e-12, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14], // 32
+    [1.2e-2, 2.7e-6, 4.7e-10, 5.2e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14], // 48
+    [1.3e-2, 2.0e-6, 1.4e-10, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14], // 64
+    [5.6e-3, 3.5e-7, 1.2e-11, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14], // 96
+    [6.0e-3, 2.2e-7, 4.1e-12, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14], // 128
+    [2.8e-3, 2.6e-8, 1.4e-13, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14], // 256
+    [1.6e-3, 4.9e-9, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14], // 512
+    [7.2e-4, 3.4e-10, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14, 2.0e-14], // 1024
+];
+#[rustfmt::skip]
+const REGULAR_MOMENT_ERRS: &[f64] = &[
+    6.6e-1, // 1.05
+    6.2e-1, // 1.1
+    6.3e-1, // 1.2
+    3.3e-1, // 1.3
+    5.1e-1, // 1.4
+    3.0e-1, // 1.5
+    3.2e-1, // 1.75
+    1.3e-1, // 2
+    8.1e-2, // 2.5
+    3.0e-2, // 3
+    8.8e-3, // 4
+    9.4e-3, // 5
+    4.4e-3, // 6
+    2.5e-3, // 8
+    9.2e-4, // 10
+    3.7e-4, // 12
+    3.4e-4, // 16
+    6.2e-5, // 24
+    4.7e-5, // 32
+    5.6e-6, // 48
+    4.4e-6, // 64
+    8.6e-7, // 96
+    4.8e-7, // 128
+    4.1e-8, // 256
+    1.0e-8, // 512
+    1.0e-9, // 1024
+];
+const _: () = assert!(REGULAR_FAR_ERRS.len() == FAR_SEPS.len() && REGULAR_MOMENT_ERRS.len() == FAR_SEPS.len());
+
 // far_field_order's per-thread order table has room for 32 rows
 const _: () = assert!(FAR_SEPS.len() <= 32);
 
@@ -603,6 +668,26 @@ pub fn far_field_order(rel_sep: f64, rel_tol: f64) -> Option<usize> {
     (table[row] > 0).then_some(table[row] as usize)
 }
 
+/// Whether `poly` belongs to the regular-quad class of the calibration tables: a
+/// parallelogram (v0 + v2 = v1 + v3 within 1e-9 of its size) with side ratio at most 4 and
+/// corner angles in [45°, 135°]. Meshes of squares and rectangles are in it. The Gauss and
+/// moment rules are much more accurate on such pairs than on general polygons (triangles,
+/// concave shapes, slivers), so [`FarPlan`] has separate, calibrated thresholds for pairs of
+/// two regular quads.
+pub fn is_regular_quad(poly: &Polygon) -> bool {
+    let v = poly.vertices();
+    if v.len() != 4 {
+        return false;
+    }
+    let (e1, e2) = (v[1] - v[0], v[3] - v[0]);
+    if (v[2] - v[1] - e2).length() > 1e-9 * poly.radius() {
+        return false;
+    }
+    let (l1, l2) = (e1.length(), e2.length());
+    let cos = e1.dot(e2) / (l1 * l2);
+    l1.min(l2) >= 0.25 * l1.max(l2) && cos.abs() <= std::f64::consts::FRAC_1_SQRT_2 + 1e-12
+}
+
 /// How `auto` integrates one unobstructed, fully facing pair (see [`FarPlan`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum FarRule {
@@ -618,46 +703,73 @@ pub enum FarRule {
 /// admissible from a relative separation on (the calibrated worst-case errors times
 /// FAR_SAFETY, over this and all larger separations, are below the target), and the cheapest
 /// admissible one is used: Gauss order 1, then the moment rule, then Gauss orders 2, 3, ...
-/// The Gauss choice equals [`far_field_order`]'s. Built once per tolerance; [`FarPlan::rule`]
-/// is a few comparisons, and [`FarPlan::rule_sq`] needs no square root.
+/// Two sets of thresholds: pairs of regular quads ([`is_regular_quad`]) from their own
+/// tables, all other pairs from the general ones (whose Gauss choice equals
+/// [`far_field_order`]'s). Built once per tolerance; choosing is a few comparisons on squared
+/// distances, no square root.
 #[derive(Debug, Clone, PartialEq)]
 pub struct FarPlan {
     tol: f64,
-    /// Smallest relative separation from which Gauss order n + 1 is admissible (inf: never).
-    gauss: [f64; MAX_FAR_ORDER],
-    moment: f64,
-    /// The same thresholds squared.
+    general: Thresholds,
+    regular: Thresholds,
+}
+
+/// Squared relative separations from which each rule is admissible (inf: never).
+#[derive(Debug, Clone, PartialEq)]
+struct Thresholds {
     gauss_sq: [f64; MAX_FAR_ORDER],
     moment_sq: f64,
 }
 
+impl Thresholds {
+    fn new(rel_tol: f64, gauss_errs: &[[f64; MAX_FAR_ORDER]], moment_errs: &[f64]) -> Thresholds {
+        let mut t = Thresholds { gauss_sq: [f64::INFINITY; MAX_FAR_ORDER], moment_sq: f64::INFINITY };
+        if !(rel_tol.is_finite() && rel_tol > 0.0 && FLOOR * FAR_SAFETY <= rel_tol) {
+            return t;
+        }
+        let last = FAR_SEPS.len() - 1;
+        // the first row from which every larger one is admissible; beyond the table, the
+        // extrapolation of far_field_order solved for the separation
+        let threshold = |errs: &dyn Fn(usize) -> f64, decay: i32| -> f64 {
+            let mut from = None;
+            for r in (0..=last).rev() {
+                if errs(r) * FAR_SAFETY > rel_tol {
+                    break;
+                }
+                from = Some(r);
+            }
+            let s = match from {
+                Some(r) => FAR_SEPS[r],
+                None => FAR_SEPS[last] * (errs(last) * FAR_SAFETY / rel_tol).powf(1.0 / decay as f64),
+            };
+            s * s
+        };
+        for n in 1..=MAX_FAR_ORDER {
+            t.gauss_sq[n - 1] = threshold(&|r| gauss_errs[r][n - 1].max(FLOOR), (2 * n as i32 - 3).max(1));
+        }
+        t.moment_sq = threshold(&|r| moment_errs[r].max(FLOOR), 1);
+        t
+    }
+
+    #[inline]
+    fn rule(&self, dist_sq: f64, radii_sq: f64) -> FarRule {
+        if dist_sq >= self.gauss_sq[0] * radii_sq {
+            return FarRule::Gauss(1);
+        }
+        if dist_sq >= self.moment_sq * radii_sq {
+            return FarRule::Moment;
+        }
+        (1..MAX_FAR_ORDER).find(|&n| dist_sq >= self.gauss_sq[n] * radii_sq).map_or(FarRule::Exact, |n| FarRule::Gauss(n + 1))
+    }
+}
+
 impl FarPlan {
     pub fn new(rel_tol: f64) -> FarPlan {
-        let mut gauss = [f64::INFINITY; MAX_FAR_ORDER];
-        let mut moment = f64::INFINITY;
-        if rel_tol.is_finite() && rel_tol > 0.0 && FLOOR * FAR_SAFETY <= rel_tol {
-            let last = FAR_SEPS.len() - 1;
-            // the first row from which every larger one is admissible; beyond the table, the
-            // extrapolation of far_field_order solved for the separation
-            let threshold = |errs: &dyn Fn(usize) -> f64, decay: i32| -> f64 {
-                let mut from = None;
-                for r in (0..=last).rev() {
-                    if errs(r) * FAR_SAFETY > rel_tol {
-                        break;
-                    }
-                    from = Some(r);
-                }
-                match from {
-                    Some(r) => FAR_SEPS[r],
-                    None => FAR_SEPS[last] * (errs(last) * FAR_SAFETY / rel_tol).powf(1.0 / decay as f64),
-                }
-            };
-            for n in 1..=MAX_FAR_ORDER {
-                gauss[n - 1] = threshold(&|r| FAR_ERRS[r][n - 1].max(FLOOR), (2 * n as i32 - 3).max(1));
-            }
-            moment = threshold(&|r| MOMENT_ERRS[r].max(FLOOR), 1);
+        FarPlan {
+            tol: rel_tol,
+            general: Thresholds::new(rel_tol, FAR_ERRS, MOMENT_ERRS),
+            regular: Thresholds::new(rel_tol, REGULAR_FAR_ERRS, REGULAR_MOMENT_ERRS),
         }
-        FarPlan { tol: rel_tol, gauss, moment, gauss_sq: gauss.map(|t| t * t), moment_sq: moment * moment }
     }
 
     /// The plan for `rel_tol`, built once per thread and tolerance.
@@ -682,25 +794,20 @@ impl FarPlan {
         self.tol
     }
 
-    /// The rule for relative separation `rel_sep` = |c_a - c_b| / (r_a + r_b).
-    pub fn rule(&self, rel_sep: f64) -> FarRule {
+    /// The rule for relative separation `rel_sep` = |c_a - c_b| / (r_a + r_b); `regular`:
+    /// both polygons are regular quads.
+    pub fn rule(&self, rel_sep: f64, regular: bool) -> FarRule {
         if !rel_sep.is_finite() {
             return FarRule::Exact;
         }
-        self.rule_sq(rel_sep * rel_sep, 1.0)
+        self.rule_sq(rel_sep * rel_sep, 1.0, regular)
     }
 
     /// [`FarPlan::rule`] from the squared centroid distance and the squared radius sum (no
     /// square root: scene loops call this for every pair).
     #[inline]
-    pub fn rule_sq(&self, dist_sq: f64, radii_sq: f64) -> FarRule {
-        if dist_sq >= self.gauss_sq[0] * radii_sq {
-            return FarRule::Gauss(1);
-        }
-        if dist_sq >= self.moment_sq * radii_sq {
-            return FarRule::Moment;
-        }
-        (1..MAX_FAR_ORDER).find(|&n| dist_sq >= self.gauss_sq[n] * radii_sq).map_or(FarRule::Exact, |n| FarRule::Gauss(n + 1))
+    pub fn rule_sq(&self, dist_sq: f64, radii_sq: f64, regular: bool) -> FarRule {
+        if regular { self.regular.rule(dist_sq, radii_sq) } else { self.general.rule(dist_sq, radii_sq) }
     }
 }
 
@@ -886,8 +993,25 @@ pub(crate) mod tests {
     /// closed front half-space. Half of the pairs have b resting on a's plane (touching it
     /// at a vertex or edge), a third of the rest are perpendicular or opposed-parallel.
     pub(crate) fn random_far_pair(rng: &mut Rng, sep: f64) -> (Polygon, Polygon) {
+        random_far_pair_of(rng, sep, random_outline)
+    }
+
+    /// A random regular quad (see [`is_regular_quad`]): a parallelogram with side ratio in
+    /// [1/4, 1] and corner angles in [45°, 135°], counter-clockwise.
+    pub(crate) fn random_regular_outline(rng: &mut Rng) -> Vec<[f64; 2]> {
+        let ratio = rng.range(0.25, 1.0);
+        let ang = rng.range(0.25 * PI, 0.75 * PI);
+        let (e1, e2) = ([1.0, 0.0], [ratio * ang.cos(), ratio * ang.sin()]);
+        let o = [-(e1[0] + e2[0]) / 2.0, -(e1[1] + e2[1]) / 2.0];
+        vec![o, [o[0] + e1[0], o[1] + e1[1]], [o[0] + e1[0] + e2[0], o[1] + e1[1] + e2[1]], [o[0] + e2[0], o[1] + e2[1]]]
+    }
+
+    /// A pair at relative separation `sep` as in the calibration: b of size ratio 1/20..20,
+    /// oriented at random (a fifth perpendicular, a tenth nearly opposed), half of the pairs
+    /// with b resting on a's plane, each wholly in front of the other.
+    pub(crate) fn random_far_pair_of(rng: &mut Rng, sep: f64, outline: fn(&mut Rng) -> Vec<[f64; 2]>) -> (Polygon, Polygon) {
         loop {
-            let Some(a) = make_polygon(&random_outline(rng), Vec3::Z, 1.0, Vec3::ZERO) else { continue };
+            let Some(a) = make_polygon(&outline(rng), Vec3::Z, 1.0, Vec3::ZERO) else { continue };
             let rb = (rng.range(-1., 1.) * 20f64.ln()).exp();
             let mode = rng.unit();
             let nb = if mode < 0.2 {
@@ -898,7 +1022,7 @@ pub(crate) mod tests {
             } else {
                 rng.dir()
             };
-            let Some(b0) = make_polygon(&random_outline(rng), nb, rb, Vec3::ZERO) else { continue };
+            let Some(b0) = make_polygon(&outline(rng), nb, rb, Vec3::ZERO) else { continue };
             let dist = sep * (1.0 + rb);
             let zmin = b0.vertices().iter().map(|v| v.z).fold(f64::INFINITY, f64::min);
             let dz = if rng.unit() < 0.5 {
@@ -944,6 +1068,53 @@ pub(crate) mod tests {
         sum + comp
     }
 
+    /// Prints REGULAR_FAR_ERRS and REGULAR_MOMENT_ERRS: `calibrate_far_field` and
+    /// `calibrate_moment_rule` on pairs of regular quads ([`is_regular_quad`]; size ratio
+    /// 1/20..20, half of them resting on the other's plane, as there). Rows in parallel.
+    /// Run: cargo test --release -p nusselt-core calibrate_regular_quads -- --ignored --nocapture
+    #[test]
+    #[ignore]
+    fn calibrate_regular_quads() {
+        use crate::moments::{moment_pair, Moments};
+        use rayon::prelude::*;
+        let samples: usize = std::env::var("NUSSELT_CAL_SAMPLES").ok().and_then(|s| s.parse().ok()).unwrap_or(300);
+        let mut rng = Rng(4048);
+        let pairs: Vec<Vec<(Polygon, Polygon)>> = FAR_SEPS
+            .iter()
+            .map(|&s| (0..samples).map(|_| random_far_pair_of(&mut rng, s, random_regular_outline)).collect())
+            .collect();
+        assert!(pairs.iter().flatten().all(|(a, b)| is_regular_quad(a) && is_regular_quad(b)));
+        let rows: Vec<([f64; MAX_FAR_ORDER], f64, f64)> = FAR_SEPS
+            .par_iter()
+            .zip(&pairs)
+            .map(|(&s, pairs)| {
+                let (hi, lo) = if s < 2.0 { (40, 32) } else { (32, 24) };
+                let (mut worst, mut moment, mut unc_max) = ([0.0f64; MAX_FAR_ORDER], 0.0f64, 0.0f64);
+                for (a, b) in pairs {
+                    let r = reference_aff(a, b, hi);
+                    let unc = (r - reference_aff(a, b, lo)).abs() / r;
+                    unc_max = unc_max.max(unc);
+                    for n in 1..=MAX_FAR_ORDER {
+                        worst[n - 1] = worst[n - 1].max((aff(a, b, n) - r).abs() / r + unc);
+                    }
+                    moment = moment.max((moment_pair(&Moments::new(a), &Moments::new(b)) - r).abs() / r + unc);
+                }
+                (worst, moment, unc_max)
+            })
+            .collect();
+        println!("const REGULAR_FAR_ERRS: &[[f64; MAX_FAR_ORDER]] = &[");
+        for (s, (worst, _, unc)) in FAR_SEPS.iter().zip(&rows) {
+            let row: Vec<String> = worst.iter().map(|e| format!("{:.1e}", e.max(FLOOR))).collect();
+            println!("    [{}], // s = {s}, reference uncertainty {unc:.1e}", row.join(", "));
+        }
+        println!("];");
+        println!("const REGULAR_MOMENT_ERRS: &[f64] = &[");
+        for (s, (_, m, _)) in FAR_SEPS.iter().zip(&rows) {
+            println!("    {m:.1e}, // s = {s}");
+        }
+        println!("];");
+    }
+
     /// Calibration of [`far_field_order`]: worst relative error of orders 1..=MAX_FAR_ORDER
     /// over random pairs per separation, against a compensated order-40 (s < 2) or order-32
     /// reference; the difference to the next lower reference order (32 or 24) is added to every
@@ -981,13 +1152,57 @@ pub(crate) mod tests {
     /// The order chosen by far_field_order meets the tolerance on random pairs (other seed
     /// than the calibration), against a compensated high-order reference.
     #[test]
+    fn regular_quads_are_recognised() {
+        let quad = |v: [[f64; 2]; 4]| Polygon::new(v.iter().map(|p| Vec3::new(p[0], p[1], 0.0)).collect()).unwrap();
+        assert!(is_regular_quad(&quad([[0., 0.], [1., 0.], [1., 1.], [0., 1.]])));
+        assert!(is_regular_quad(&quad([[0., 0.], [4., 0.], [4., 1.], [0., 1.]]))); // side ratio 4
+        assert!(!is_regular_quad(&quad([[0., 0.], [5., 0.], [5., 1.], [0., 1.]]))); // 5
+        assert!(is_regular_quad(&quad([[0., 0.], [1., 0.], [2., 1.], [1., 1.]]))); // 45° rhombus-like
+        assert!(!is_regular_quad(&quad([[0., 0.], [1., 0.], [2.8, 1.], [1.8, 1.]]))); // about 29°
+        assert!(!is_regular_quad(&quad([[0., 0.], [2., 0.], [1.5, 1.], [0.5, 1.]]))); // trapezoid
+        assert!(!is_regular_quad(&Polygon::new(vec![Vec3::ZERO, Vec3::X, Vec3::Y]).unwrap()));
+        // scale and position do not matter
+        let far = Polygon::new(vec![Vec3::new(1e6, 0., 0.), Vec3::new(1e6 + 1e-3, 0., 0.), Vec3::new(1e6 + 1e-3, 1e-3, 0.), Vec3::new(1e6, 1e-3, 0.)]).unwrap();
+        assert!(is_regular_quad(&far));
+    }
+
+    #[test]
+    fn far_plan_meets_tolerance_on_regular_quads() {
+        // random regular-quad pairs (other seed than the calibration): whatever rule the
+        // plan picks for the pair meets the target
+        let mut rng = Rng(31337);
+        let mut checked = 0;
+        for k in 0..80 {
+            let s = (1.05f64.ln() + (2000f64.ln() - 1.05f64.ln()) * (k as f64 + rng.unit()) / 80.0).exp();
+            let (a, b) = random_far_pair_of(&mut rng, s, random_regular_outline);
+            let sep = a.centroid().distance(b.centroid()) / (a.radius() + b.radius());
+            let r = reference_aff(&a, &b, 32);
+            let unc = (r - reference_aff(&a, &b, 24)).abs() / r;
+            for &tol in &[0.1, 1e-2, 1e-4, 1e-6, 1e-9, 1e-12] {
+                if unc > 0.1 * tol {
+                    continue;
+                }
+                let g = match FarPlan::new(tol).rule(sep, true) {
+                    FarRule::Gauss(n) => aff(&a, &b, n),
+                    FarRule::Moment => crate::moments::moment_pair(&crate::moments::Moments::new(&a), &crate::moments::Moments::new(&b)),
+                    FarRule::Exact => continue,
+                };
+                let e = (g - r).abs() / r;
+                assert!(e <= tol, "s {sep:.3}, tol {tol:e}: error {e:.2e}");
+                checked += 1;
+            }
+        }
+        assert!(checked >= 200, "checked {checked}");
+    }
+
+    #[test]
     fn far_plan_agrees_with_far_field_order_and_meets_tolerance() {
         // the Gauss choice is far_field_order's wherever the moment rule is not cheaper
         for &tol in &[0.1, 0.03, 1e-3, 1e-6, 1e-10, 1e-13] {
             let plan = FarPlan::new(tol);
             for k in 0..400 {
                 let s = (1.0f64.ln() + (5000f64.ln() - 1.0f64.ln()) * k as f64 / 400.0).exp();
-                let rule = plan.rule(s);
+                let rule = plan.rule(s, false);
                 let want = far_field_order(s, tol);
                 match rule {
                     FarRule::Gauss(n) => assert_eq!(Some(n), want, "tol {tol:e}, s {s}"),
@@ -996,11 +1211,12 @@ pub(crate) mod tests {
                     FarRule::Moment => assert!(want.is_some_and(|n| n >= 2), "tol {tol:e}, s {s}: {want:?}"),
                 }
                 // the squared form decides the same
-                assert_eq!(plan.rule_sq(s * s * 4.0, 4.0), rule);
+                assert_eq!(plan.rule_sq(s * s * 4.0, 4.0, false), rule);
             }
         }
-        assert_eq!(FarPlan::new(1e-16).rule(1e6), FarRule::Exact);
-        assert_eq!(FarPlan::new(1e-6).rule(f64::NAN), FarRule::Exact);
+        assert_eq!(FarPlan::new(1e-16).rule(1e6, false), FarRule::Exact);
+        assert_eq!(FarPlan::new(1e-16).rule(1e6, true), FarRule::Exact);
+        assert_eq!(FarPlan::new(1e-6).rule(f64::NAN, true), FarRule::Exact);
         // where the plan picks the moment rule, it meets the target on random pairs
         let mut rng = Rng(99);
         let mut checked = 0;
@@ -1009,7 +1225,7 @@ pub(crate) mod tests {
             let (a, b) = random_far_pair(&mut rng, s);
             let r = reference_aff(&a, &b, 20);
             for &tol in &[0.1, 0.03, 1e-2, 1e-3, 1e-4] {
-                if FarPlan::new(tol).rule(s) == FarRule::Moment {
+                if FarPlan::new(tol).rule(s, false) == FarRule::Moment {
                     let (ma, mb) = (crate::moments::Moments::new(&a), crate::moments::Moments::new(&b));
                     let e = (crate::moments::moment_pair(&ma, &mb) - r).abs() / r;
                     assert!(e <= tol, "s {s}, tol {tol:e}: moment rule error {e:.2e}");

@@ -13,6 +13,7 @@ use crate::hemisphere::{
     hemicube_row, nusselt_row, raytrace_row, single_plane_row, HemicubeOptions, NusseltOptions, RaytraceOptions,
     RowResult, SinglePlaneOptions, SourcePoints,
 };
+pub use crate::matrix::PairRow;
 use crate::matrix::{full_rows, upper_pair_rows};
 use crate::method::{self, Method, Options, RuleCache};
 use crate::obstructed::{self, Context, Estimate, VisMethod, VisOptions};
@@ -85,34 +86,13 @@ pub struct Scene {
     convex: OnceLock<bool>,
 }
 
-/// One finished pair row: columns j, G_ij and, for sampled methods, the standard errors of
-/// G_ij (None: the method is exact up to its tolerance).
-#[derive(Debug, Clone, Default, PartialEq)]
-pub struct PairRow {
-    pub cols: Vec<u32>,
-    pub g: Vec<f64>,
-    pub std: Option<Vec<f64>>,
-}
-
-impl PairRow {
-    pub fn len(&self) -> usize {
-        self.cols.len()
-    }
-
-    pub fn is_empty(&self) -> bool {
-        self.cols.is_empty()
-    }
-
-    /// (j, G_ij, standard error or 0).
-    pub fn iter(&self) -> impl Iterator<Item = (u32, f64, f64)> + '_ {
-        (0..self.len()).map(|k| (self.cols[k], self.g[k], self.std.as_ref().map_or(0.0, |s| s[k])))
-    }
-}
-
 impl Scene {
     pub fn new(polygons: Vec<Polygon>, receiver: Vec<bool>) -> Result<Self> {
         if receiver.len() != polygons.len() {
             return Err(Error::InvalidArgument("receiver mask length differs from polygon count".into()));
+        }
+        if polygons.len() > i32::MAX as usize {
+            return Err(Error::InvalidArgument(format!("{} polygons: at most 2^31 - 1 are supported", polygons.len())));
         }
         let rules = RuleCache::new(polygons.len());
         Ok(Scene { polygons, receiver, rules, bvh: OnceLock::new(), convex: OnceLock::new() })

@@ -12,7 +12,7 @@ use crate::geometry::{Polygon, Vec3};
 use crate::method::{self, Facing, RuleCache};
 use crate::moments::{moment_pair, Moments};
 use crate::quadrature::{FarPlan, FarRule};
-use crate::scene::PairRow;
+use crate::matrix::PairRow;
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicBool, Ordering};
 
@@ -20,6 +20,19 @@ use std::sync::atomic::{AtomicBool, Ordering};
 struct Patch {
     m: Moments,
     radius: f64,
+    /// Largest distance of a vertex from the polygon's own plane (planarity tolerance).
+    thickness: f64,
+    /// A regular quad ([`crate::quadrature::is_regular_quad`]): tighter rule thresholds.
+    regular: bool,
+}
+
+/// Whether every vertex of b is within `eps` of a's plane (normal `na`, b's centroid at
+/// signed height `hab`), decided from b's thickness: a vertex v is at height
+/// hab + (v - c_b)·n_b + (v - c_b)·(na - n_b), bounded by hab ± (thickness + radius |na - n_b|).
+/// Same-plane patches of a mesh are a sixth of a cube's pairs; this spares their vertex loops.
+#[inline]
+fn coplanar(hab: f64, b: &Patch, na: Vec3, eps: f64) -> bool {
+    hab.abs() + b.thickness + b.radius * (na - b.m.normal).length() <= eps
 }
 
 /// G_ij = A_i F_ij for each row i of `rows` and receiver j > i, by `auto` at relative
@@ -41,7 +54,11 @@ pub(crate) fn pair_rows(
     let lo = rows.iter().copied().min().unwrap_or(n);
     let patches: Vec<Patch> = (lo..n)
         .into_par_iter()
-        .map(|k| Patch { m: *rules.moments(k, &polys[k]), radius: polys[k].radius() })
+        .map(|k| {
+            let p = &polys[k];
+            let thickness = p.vertices().iter().map(|v| (*v - p.centroid()).dot(p.normal()).abs()).fold(0.0, f64::max);
+            Patch { m: *rules.moments(k, p), radius: p.radius(), thickness, regular: crate::quadrature::is_regular_quad(p) }
+        })
         .collect();
     let at = |k: usize| &patches[k - lo];
     rows.par_iter()
@@ -53,6 +70,9 @@ pub(crate) fn pair_rows(
             if !receiver[i] {
                 return Ok(row);
             }
+            // most pairs of an enclosure exchange something: room for all, no regrowth
+            row.cols.reserve(n - i - 1);
+            row.g.reserve(n - i - 1);
             let a = at(i);
             let (ca, na, ra) = (a.m.centroid, a.m.normal, a.radius);
             for j in i + 1..n {
@@ -69,13 +89,16 @@ pub(crate) fn pair_rows(
                     Facing::Full
                 } else if hab + b.radius < -eps || hba + ra < -eps {
                     Facing::None
+                } else if coplanar(hab, b, na, eps) {
+                    // b's vertices all within eps of a's plane: facing's vertex test gives None
+                    Facing::None
                 } else {
                     method::facing(&polys[i], &polys[j])
                 };
                 let g = match f {
                     Facing::None => continue,
                     Facing::Partial => crate::analytic::polygon_pair(&polys[i], &polys[j]),
-                    Facing::Full => match plan.rule_sq(d.dot(d), rsum * rsum) {
+                    Facing::Full => match plan.rule_sq(d.dot(d), rsum * rsum, a.regular && b.regular) {
                         FarRule::Moment => moment_pair(&a.m, &b.m),
                         rule => method::full_facing_pair(&polys[i], &polys[j], rule, Some((rules, i, j))),
                     },

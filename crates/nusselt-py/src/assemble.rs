@@ -10,11 +10,11 @@ use std::borrow::Cow;
 type Block<'py> = (
     PyReadonlyArray1<'py, i64>,
     PyReadonlyArray1<'py, i64>,
-    PyReadonlyArray1<'py, i64>,
+    PyReadonlyArray1<'py, i32>,
     PyReadonlyArray1<'py, f64>,
     Option<PyReadonlyArray1<'py, f64>>,
 );
-type Out<'py> = (Bound<'py, PyArray1<i64>>, Bound<'py, PyArray1<i64>>, Bound<'py, PyArray1<f64>>, Option<Bound<'py, PyArray1<f64>>>);
+type Out<'py> = (Bound<'py, PyArray1<i64>>, Bound<'py, PyArray1<i32>>, Bound<'py, PyArray1<f64>>, Option<Bound<'py, PyArray1<f64>>>);
 
 /// (indptr, indices, F, standard errors of F or None) over receiver indices, from blocks of
 /// (rows, indptr, columns, G, std of G) in scene indices; `col_of` maps scene index to
@@ -30,7 +30,7 @@ pub fn mirror_pairs<'py>(
     let col_of = col_of.as_slice()?;
     // every polygon a receiver (the usual case): indices need no mapping and no copy
     let identity = col_of.iter().enumerate().all(|(k, &c)| c == k as i64);
-    let mut mapped: Vec<(usize, Cow<[i64]>, usize, usize, usize)> = Vec::new(); // row, cols, block, start, end
+    let mut mapped: Vec<(usize, Cow<[i32]>, usize, usize, usize)> = Vec::new(); // row, cols, block, start, end
     let mut with_std = false;
     for (b, (rows, indptr, indices, data, std)) in blocks.iter().enumerate() {
         let (rows, indptr, indices, data) = (rows.as_slice()?, indptr.as_slice()?, indices.as_slice()?, data.as_slice()?);
@@ -41,7 +41,7 @@ pub fn mirror_pairs<'py>(
             with_std |= s.as_slice()?.iter().any(|&v| v != 0.0);
         }
         let map = |k: i64| -> PyResult<i64> {
-            usize::try_from(k).ok().and_then(|k| col_of.get(k)).copied().filter(|&c| c >= 0).ok_or_else(|| {
+            usize::try_from(k).ok().and_then(|k| col_of.get(k)).copied().filter(|&c| (0..=i32::MAX as i64).contains(&c)).ok_or_else(|| {
                 pyo3::exceptions::PyValueError::new_err(format!("block {b}: index {k} is not a receiver"))
             })
         };
@@ -53,7 +53,7 @@ pub fn mirror_pairs<'py>(
             let cols = if identity {
                 Cow::Borrowed(&indices[s..e]) // mirror_upper checks the range
             } else {
-                Cow::Owned(indices[s..e].iter().map(|&j| map(j)).collect::<PyResult<Vec<i64>>>()?)
+                Cow::Owned(indices[s..e].iter().map(|&j| map(j as i64).map(|c| c as i32)).collect::<PyResult<Vec<i32>>>()?)
             };
             mapped.push((map(row)? as usize, cols, b, s, e));
         }

@@ -4,6 +4,7 @@ use crate::errors::guard;
 use crate::options::options;
 use crate::threads::pool;
 use nusselt_core::geometry::{GeometryError, Polygon};
+use nusselt_core::matrix::flatten_pair_rows;
 use nusselt_core::scene::{AnyMethod, Scene};
 use nusselt_core::Error;
 use numpy::{IntoPyArray, PyArray1, PyArray2, PyReadonlyArray1, PyReadonlyArray2};
@@ -11,7 +12,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use std::sync::atomic::AtomicBool;
 
-type Csr<'py> = (Bound<'py, PyArray1<i64>>, Bound<'py, PyArray1<i64>>, Bound<'py, PyArray1<f64>>, Option<Bound<'py, PyArray1<f64>>>);
+type Csr<'py> = (Bound<'py, PyArray1<i64>>, Bound<'py, PyArray1<i32>>, Bound<'py, PyArray1<f64>>, Option<Bound<'py, PyArray1<f64>>>);
 
 #[pyclass(frozen, module = "nusselt._core")]
 pub struct SceneCore {
@@ -87,30 +88,13 @@ impl SceneCore {
         let m: AnyMethod = method.parse().map_err(crate::errors::to_py)?;
         let o = options(method, opts)?;
         let pool = pool();
-        let out = py.detach(|| {
+        let b = py.detach(|| {
             guard(|| {
                 self.valid()?;
-                pool.install(|| self.scene.pair_rows(&rows, m, &o, &AtomicBool::new(false)))
+                pool.install(|| self.scene.pair_rows(&rows, m, &o, &AtomicBool::new(false)).map(|r| flatten_pair_rows(&r)))
             })
         })?;
-        // one memcpy-like pass per row; standard errors only when some row has them
-        let nnz: usize = out.iter().map(|r| r.len()).sum();
-        let with_std = out.iter().any(|r| r.std.is_some());
-        let (mut indptr, mut idx, mut val) = (Vec::with_capacity(out.len() + 1), Vec::with_capacity(nnz), Vec::with_capacity(nnz));
-        let mut std = Vec::with_capacity(if with_std { nnz } else { 0 });
-        indptr.push(0i64);
-        for r in &out {
-            idx.extend(r.cols.iter().map(|&j| j as i64));
-            val.extend_from_slice(&r.g);
-            if with_std {
-                match &r.std {
-                    Some(s) => std.extend_from_slice(s),
-                    None => std.resize(idx.len(), 0.0),
-                }
-            }
-            indptr.push(idx.len() as i64);
-        }
-        Ok((indptr.into_pyarray(py), idx.into_pyarray(py), val.into_pyarray(py), with_std.then(|| std.into_pyarray(py))))
+        Ok((b.indptr.into_pyarray(py), b.cols.into_pyarray(py), b.g.into_pyarray(py), b.std.map(|s| s.into_pyarray(py))))
     }
 
     /// Row methods: F_ij for the given rows, as CSR parts plus standard errors (NaN where the

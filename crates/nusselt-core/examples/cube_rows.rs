@@ -1,0 +1,64 @@
+//! Times `auto` pair rows of the closed unit cube with n x n squares per face (no Python):
+//!     cargo run --release -p nusselt-core --example cube_rows -- 32 0.03
+use nusselt_core::matrix::{flatten_pair_rows, mirror_upper, UpperRow};
+use nusselt_core::obstructed::VisMethod;
+use nusselt_core::scene::{AllOptions, AnyMethod, Scene};
+use nusselt_core::{Polygon, Vec3};
+use std::sync::atomic::AtomicBool;
+use std::time::Instant;
+
+fn main() {
+    let args: Vec<String> = std::env::args().collect();
+    let k: usize = args.get(1).and_then(|s| s.parse().ok()).unwrap_or(32);
+    let tol: f64 = args.get(2).and_then(|s| s.parse().ok()).unwrap_or(0.03);
+    let faces = [
+        (Vec3::ZERO, Vec3::X, Vec3::Y),
+        (Vec3::ONE, -Vec3::Y, -Vec3::X),
+        (Vec3::ZERO, Vec3::Y, Vec3::Z),
+        (Vec3::ONE, -Vec3::Z, -Vec3::Y),
+        (Vec3::ZERO, Vec3::Z, Vec3::X),
+        (Vec3::ONE, -Vec3::X, -Vec3::Z),
+    ];
+    let h = 1.0 / k as f64;
+    let mut polys = Vec::new();
+    for (o, u, w) in faces {
+        for a in 0..k {
+            for b in 0..k {
+                let p = o + u * (a as f64 * h) + w * (b as f64 * h);
+                polys.push(Polygon::new(vec![p, p + u * h, p + u * h + w * h, p + w * h]).unwrap());
+            }
+        }
+    }
+    let n = polys.len();
+    let scene = Scene::new(polys, vec![true; n]).unwrap();
+    let t = Instant::now();
+    assert!(scene.unobstructed());
+    println!("unobstructed check: {:.3} s", t.elapsed().as_secs_f64());
+    let mut o = AllOptions::default();
+    o.exact.tol = tol;
+    let rows: Vec<usize> = (0..n).collect();
+    for _ in 0..2 {
+        let t = Instant::now();
+        let r = scene.pair_rows(&rows, AnyMethod::Visible(VisMethod::Auto), &o, &AtomicBool::new(false)).unwrap();
+        let t1 = t.elapsed().as_secs_f64();
+        let b = flatten_pair_rows(&r);
+        let t2 = t.elapsed().as_secs_f64();
+        let pairs = n * (n - 1) / 2;
+        println!("{n} patches, tol {tol:e}: pair rows {t1:.3} s ({:.1} M pairs/s), flatten {:.3} s, {} entries", pairs as f64 / t1 / 1e6, t2 - t1, b.g.len());
+        let areas: Vec<f64> = scene.polygons().iter().map(|p| p.area()).collect();
+        let upper: Vec<UpperRow> = (0..n)
+            .map(|i| {
+                let (s, e) = (b.indptr[i] as usize, b.indptr[i + 1] as usize);
+                UpperRow { row: i, cols: &b.cols[s..e], g: &b.g[s..e], std: None }
+            })
+            .collect();
+        let mut times = Vec::new();
+        for _ in 0..4 {
+            let t = Instant::now();
+            let (f, _) = mirror_upper(&areas, &upper, false).unwrap();
+            times.push(t.elapsed().as_secs_f64());
+            assert_eq!(f.data.len(), 2 * b.g.len());
+        }
+        println!("mirror: {:.3?} s", times);
+    }
+}
