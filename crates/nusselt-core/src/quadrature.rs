@@ -803,6 +803,13 @@ impl FarPlan {
         self.rule_sq(rel_sep * rel_sep, 1.0, regular)
     }
 
+    /// The squared relative separations [from, to) in which the moment rule is chosen (Gauss
+    /// order 1 takes over from `to` on), for pairs of regular quads or others.
+    pub fn moment_window_sq(&self, regular: bool) -> (f64, f64) {
+        let t = if regular { &self.regular } else { &self.general };
+        (t.moment_sq, t.gauss_sq[0])
+    }
+
     /// [`FarPlan::rule`] from the squared centroid distance and the squared radius sum (no
     /// square root: scene loops call this for every pair).
     #[inline]

@@ -10,20 +10,58 @@
 use crate::error::{Error, Result};
 use crate::geometry::{Polygon, Vec3};
 use crate::method::{self, Facing, RuleCache};
-use crate::moments::{moment_pair, Moments};
-use crate::quadrature::{FarPlan, FarRule};
+use crate::moments::Moments;
+use crate::quadrature::FarPlan;
 use crate::matrix::PairRow;
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicBool, Ordering};
 
-/// What the loop needs of one polygon.
-struct Patch {
-    m: Moments,
-    radius: f64,
+/// What the loop needs of the polygons, as structure of arrays (index k - lo) so that the
+/// first pass over a row vectorises.
+struct Patches {
+    c: [Vec<f64>; 3],
+    n: [Vec<f64>; 3],
+    radius: Vec<f64>,
+    area: Vec<f64>,
+    /// Central second moments per unit area: xx, xy, xz, yy, yz, zz.
+    m: [Vec<f64>; 6],
     /// Largest distance of a vertex from the polygon's own plane (planarity tolerance).
-    thickness: f64,
+    thickness: Vec<f64>,
     /// A regular quad ([`crate::quadrature::is_regular_quad`]): tighter rule thresholds.
-    regular: bool,
+    regular: Vec<bool>,
+    receiver: Vec<bool>,
+}
+
+impl Patches {
+    fn new(polys: &[Polygon], receiver: &[bool], rules: &RuleCache, lo: usize) -> Patches {
+        let per: Vec<(Moments, f64, f64, bool)> = (lo..polys.len())
+            .into_par_iter()
+            .map(|k| {
+                let p = &polys[k];
+                let thickness = p.vertices().iter().map(|v| (*v - p.centroid()).dot(p.normal()).abs()).fold(0.0, f64::max);
+                (*rules.moments(k, p), p.radius(), thickness, crate::quadrature::is_regular_quad(p))
+            })
+            .collect();
+        let col = |f: &dyn Fn(&(Moments, f64, f64, bool)) -> f64| per.iter().map(f).collect::<Vec<f64>>();
+        Patches {
+            c: [col(&|q| q.0.centroid.x), col(&|q| q.0.centroid.y), col(&|q| q.0.centroid.z)],
+            n: [col(&|q| q.0.normal.x), col(&|q| q.0.normal.y), col(&|q| q.0.normal.z)],
+            radius: col(&|q| q.1),
+            area: col(&|q| q.0.area),
+            m: std::array::from_fn(|e| col(&|q| q.0.m[e])),
+            thickness: col(&|q| q.2),
+            regular: per.iter().map(|q| q.3).collect(),
+            receiver: receiver[lo..].to_vec(),
+        }
+    }
+
+    fn centroid(&self, k: usize) -> Vec3 {
+        Vec3::new(self.c[0][k], self.c[1][k], self.c[2][k])
+    }
+
+    fn normal(&self, k: usize) -> Vec3 {
+        Vec3::new(self.n[0][k], self.n[1][k], self.n[2][k])
+    }
 }
 
 /// Whether every vertex of b is within `eps` of a's plane (normal `na`, b's centroid at
@@ -31,12 +69,26 @@ struct Patch {
 /// hab + (v - c_b)·n_b + (v - c_b)·(na - n_b), bounded by hab ± (thickness + radius |na - n_b|).
 /// Same-plane patches of a mesh are a sixth of a cube's pairs; this spares their vertex loops.
 #[inline]
-fn coplanar(hab: f64, b: &Patch, na: Vec3, eps: f64) -> bool {
-    hab.abs() + b.thickness + b.radius * (na - b.m.normal).length() <= eps
+fn coplanar(hab: f64, thickness: f64, radius: f64, na: Vec3, nb: Vec3, eps: f64) -> bool {
+    hab.abs() + thickness + radius * (na - nb).length() <= eps
 }
+
+/// Pair classes of the first pass.
+const SKIP: u8 = 0;
+const MOMENT: u8 = 1;
+const OTHER: u8 = 2;
+
+/// Columns per first-pass chunk (stack buffers).
+const CHUNK: usize = 256;
 
 /// G_ij = A_i F_ij for each row i of `rows` and receiver j > i, by `auto` at relative
 /// accuracy `tol`, for a scene in which nothing blocks anything (the caller checks).
+///
+/// Each row runs in two passes per chunk of columns: a branch-free pass over all of them
+/// classifies each pair (nothing exchanged / moment rule / anything else) and evaluates the
+/// moment rule everywhere (it vectorises, and the moment rule is what most pairs of a large
+/// scene use), then a scalar pass keeps the moment values and computes the other pairs
+/// exactly as [`crate::method::area_factor`] would.
 pub(crate) fn pair_rows(
     polys: &[Polygon],
     receiver: &[bool],
@@ -46,21 +98,17 @@ pub(crate) fn pair_rows(
     cancel: &AtomicBool,
 ) -> Result<Vec<PairRow>> {
     let n = polys.len();
+    if receiver.len() != n {
+        return Err(Error::InvalidArgument(format!("receiver mask has {} entries for {n} polygons", receiver.len())));
+    }
     if let Some(&bad) = rows.iter().find(|&&i| i >= n) {
         return Err(Error::InvalidArgument(format!("row {bad} out of range for {n} polygons")));
     }
     let plan = FarPlan::new(tol);
+    let windows = [plan.moment_window_sq(false), plan.moment_window_sq(true)];
     // only the polygons these rows touch (j > min row) need their data
     let lo = rows.iter().copied().min().unwrap_or(n);
-    let patches: Vec<Patch> = (lo..n)
-        .into_par_iter()
-        .map(|k| {
-            let p = &polys[k];
-            let thickness = p.vertices().iter().map(|v| (*v - p.centroid()).dot(p.normal()).abs()).fold(0.0, f64::max);
-            Patch { m: *rules.moments(k, p), radius: p.radius(), thickness, regular: crate::quadrature::is_regular_quad(p) }
-        })
-        .collect();
-    let at = |k: usize| &patches[k - lo];
+    let pt = Patches::new(polys, receiver, rules, lo);
     rows.par_iter()
         .map(|&i| {
             if cancel.load(Ordering::Relaxed) {
@@ -73,44 +121,128 @@ pub(crate) fn pair_rows(
             // most pairs of an enclosure exchange something: room for all, no regrowth
             row.cols.reserve(n - i - 1);
             row.g.reserve(n - i - 1);
-            let a = at(i);
-            let (ca, na, ra) = (a.m.centroid, a.m.normal, a.radius);
-            for j in i + 1..n {
-                if !receiver[j] {
-                    continue;
+            let ia = i - lo;
+            let (ca, na, ra, area_a, reg_a) = (pt.centroid(ia), pt.normal(ia), pt.radius[ia], pt.area[ia], pt.regular[ia]);
+            let ma: [f64; 6] = std::array::from_fn(|e| pt.m[e][ia]);
+            let (mut class, mut value) = ([SKIP; CHUNK], [0.0f64; CHUNK]);
+            let mut start = ia + 1;
+            while start < n - lo {
+                let len = (n - lo - start).min(CHUNK);
+                let end = start + len;
+                first_pass(&pt, start..end, (ca, na, ra, area_a, reg_a, &ma), &windows, &mut class[..len], &mut value[..len]);
+                for (e, (&cl, &g)) in class[..len].iter().zip(&value[..len]).enumerate() {
+                    let j = start + e + lo;
+                    let g = match cl {
+                        SKIP => continue,
+                        MOMENT => g,
+                        _ => other_pair(polys, rules, &plan, &pt, i, j, lo),
+                    };
+                    if g != 0.0 {
+                        row.cols.push(j as u32);
+                        row.g.push(g);
+                    }
                 }
-                let b = at(j);
-                let d: Vec3 = b.m.centroid - ca;
-                let (hab, hba) = (na.dot(d), -b.m.normal.dot(d));
-                let rsum = ra + b.radius;
-                let eps = 1e-12 * rsum;
-                // method::facing's bounding-sphere tests, then its vertex tests when undecided
-                let f = if hab - b.radius > eps && hba - ra > eps {
-                    Facing::Full
-                } else if hab + b.radius < -eps || hba + ra < -eps {
-                    Facing::None
-                } else if coplanar(hab, b, na, eps) {
-                    // b's vertices all within eps of a's plane: facing's vertex test gives None
-                    Facing::None
-                } else {
-                    method::facing(&polys[i], &polys[j])
-                };
-                let g = match f {
-                    Facing::None => continue,
-                    Facing::Partial => crate::analytic::polygon_pair(&polys[i], &polys[j]),
-                    Facing::Full => match plan.rule_sq(d.dot(d), rsum * rsum, a.regular && b.regular) {
-                        FarRule::Moment => moment_pair(&a.m, &b.m),
-                        rule => method::full_facing_pair(&polys[i], &polys[j], rule, Some((rules, i, j))),
-                    },
-                };
-                if g != 0.0 {
-                    row.cols.push(j as u32);
-                    row.g.push(g);
-                }
+                start = end;
             }
             Ok(row)
         })
         .collect()
+}
+
+type Source<'a> = (Vec3, Vec3, f64, f64, bool, &'a [f64; 6]);
+
+/// The branch-free pass: class and moment-rule value of the pairs (a, k), k in `ks`. Uses
+/// AVX2 when the CPU has it (checked once); without FMA, so both paths round alike.
+fn first_pass(pt: &Patches, ks: std::ops::Range<usize>, a: Source, windows: &[(f64, f64); 2], class: &mut [u8], value: &mut [f64]) {
+    #[cfg(target_arch = "x86_64")]
+    {
+        if std::arch::is_x86_feature_detected!("avx2") {
+            // SAFETY: the CPU supports AVX2, checked just above.
+            return unsafe { first_pass_avx2(pt, ks, a, windows, class, value) };
+        }
+    }
+    first_pass_body(pt, ks, a, windows, class, value)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn first_pass_avx2(pt: &Patches, ks: std::ops::Range<usize>, a: Source, windows: &[(f64, f64); 2], class: &mut [u8], value: &mut [f64]) {
+    first_pass_body(pt, ks, a, windows, class, value)
+}
+
+#[inline(always)]
+fn first_pass_body(
+    pt: &Patches,
+    ks: std::ops::Range<usize>,
+    a: Source,
+    windows: &[(f64, f64); 2],
+    class: &mut [u8],
+    value: &mut [f64],
+) {
+    let (ca, na, ra, area_a, reg_a, ma) = a;
+    let (cx, cy, cz) = (&pt.c[0][ks.clone()], &pt.c[1][ks.clone()], &pt.c[2][ks.clone()]);
+    let (nx, ny, nz) = (&pt.n[0][ks.clone()], &pt.n[1][ks.clone()], &pt.n[2][ks.clone()]);
+    let (rb, ab) = (&pt.radius[ks.clone()], &pt.area[ks.clone()]);
+    let m: [&[f64]; 6] = std::array::from_fn(|e| &pt.m[e][ks.clone()]);
+    let (reg, recv) = (&pt.regular[ks.clone()], &pt.receiver[ks.clone()]);
+    let inv_pi = std::f64::consts::FRAC_1_PI;
+    for k in 0..class.len() {
+        let (dx, dy, dz) = (cx[k] - ca.x, cy[k] - ca.y, cz[k] - ca.z);
+        let hab = na.x * dx + na.y * dy + na.z * dz;
+        let hba = -(nx[k] * dx + ny[k] * dy + nz[k] * dz);
+        let rs = ra + rb[k];
+        let eps = 1e-12 * rs;
+        let full = (hab - rb[k] > eps) & (hba - ra > eps);
+        let none = (hab + rb[k] < -eps) | (hba + ra < -eps) | !recv[k];
+        let (s, rs2) = (dx * dx + dy * dy + dz * dz, rs * rs);
+        let (from, to) = if reg_a & reg[k] { windows[1] } else { windows[0] };
+        let moment = full & (s >= from * rs2) & (s < to * rs2);
+        // the second-moment rule (crate::moments::moment_pair, same operations)
+        let t = 1.0 / s;
+        let (p, q) = (hab, hba);
+        let mad = [ma[0] * dx + ma[1] * dy + ma[2] * dz, ma[1] * dx + ma[3] * dy + ma[4] * dz, ma[2] * dx + ma[4] * dy + ma[5] * dz];
+        let mbd = [
+            m[0][k] * dx + m[1][k] * dy + m[2][k] * dz,
+            m[1][k] * dx + m[3][k] * dy + m[4][k] * dz,
+            m[2][k] * dx + m[4][k] * dy + m[5][k] * dz,
+        ];
+        let dmd = (dx * mad[0] + dy * mad[1] + dz * mad[2]) + (dx * mbd[0] + dy * mbd[1] + dz * mbd[2]);
+        let na_mbd = na.x * mbd[0] + na.y * mbd[1] + na.z * mbd[2];
+        let nb_mad = nx[k] * mad[0] + ny[k] * mad[1] + nz[k] * mad[2];
+        let trace = (ma[0] + ma[3] + ma[5]) + (m[0][k] + m[3][k] + m[5][k]);
+        let pq = p * q;
+        let bracket = pq - t * (4.0 * (q * na_mbd - p * nb_mad) + 2.0 * pq * trace) + 12.0 * t * t * pq * dmd;
+        value[k] = (area_a * ab[k] * inv_pi) * t * t * bracket.max(0.0);
+        class[k] = if none { SKIP } else if moment { MOMENT } else { OTHER };
+    }
+}
+
+/// A pair the first pass left to the general path: facing test, rule, that rule.
+#[cold]
+fn other_pair(polys: &[Polygon], rules: &RuleCache, plan: &FarPlan, pt: &Patches, i: usize, j: usize, lo: usize) -> f64 {
+    let (ia, ib) = (i - lo, j - lo);
+    let (ca, na, ra) = (pt.centroid(ia), pt.normal(ia), pt.radius[ia]);
+    let (cb, nb, rb) = (pt.centroid(ib), pt.normal(ib), pt.radius[ib]);
+    let d = cb - ca;
+    let (hab, hba) = (na.dot(d), -nb.dot(d));
+    let rsum = ra + rb;
+    let eps = 1e-12 * rsum;
+    // method::facing's bounding-sphere tests, then its vertex tests when undecided
+    let f = if hab - rb > eps && hba - ra > eps {
+        Facing::Full
+    } else if hab + rb < -eps || hba + ra < -eps || coplanar(hab, pt.thickness[ib], rb, na, nb, eps) {
+        Facing::None
+    } else {
+        method::facing(&polys[i], &polys[j])
+    };
+    match f {
+        Facing::None => 0.0,
+        Facing::Partial => crate::analytic::polygon_pair(&polys[i], &polys[j]),
+        Facing::Full => {
+            let rule = plan.rule_sq(d.dot(d), rsum * rsum, pt.regular[ia] && pt.regular[ib]);
+            method::full_facing_pair(&polys[i], &polys[j], rule, Some((rules, i, j)))
+        }
+    }
 }
 
 #[cfg(test)]
