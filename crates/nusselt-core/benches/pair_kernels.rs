@@ -6,6 +6,7 @@
 //! Criterion reports time per pair; pairs/s = 1 / time.
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
+use nusselt_core::moments::{moment_pair, Moments};
 use glam::DVec3 as V;
 use nusselt_core::geometry::Polygon;
 use nusselt_core::method::{self, Method, Options};
@@ -77,6 +78,10 @@ fn pair_kernels(c: &mut Criterion) {
             bch.iter(|| quadrature::area_area(black_box(ra), a.normal(), black_box(rb), b.normal()))
         });
     }
+    // the second-moment rule (what most pairs of a large enclosure use at low accuracy)
+    let (ma, mb) = (Moments::new(a), Moments::new(b));
+    g.throughput(Throughput::Elements(1));
+    g.bench_function("moment rule", |bch| bch.iter(|| moment_pair(black_box(&ma), black_box(&mb))));
     g.finish();
 }
 

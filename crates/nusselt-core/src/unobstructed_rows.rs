@@ -105,7 +105,7 @@ pub(crate) fn pair_rows(
         return Err(Error::InvalidArgument(format!("row {bad} out of range for {n} polygons")));
     }
     let plan = FarPlan::new(tol);
-    let windows = [plan.moment_window_sq(false), plan.moment_window_sq(true)];
+    let windows = [plan.moment_from_sq(false), plan.moment_from_sq(true)];
     // only the polygons these rows touch (j > min row) need their data
     let lo = rows.iter().copied().min().unwrap_or(n);
     let pt = Patches::new(polys, receiver, rules, lo);
@@ -153,7 +153,7 @@ type Source<'a> = (Vec3, Vec3, f64, f64, bool, &'a [f64; 6]);
 
 /// The branch-free pass: class and moment-rule value of the pairs (a, k), k in `ks`. Uses
 /// AVX2 when the CPU has it (checked once); without FMA, so both paths round alike.
-fn first_pass(pt: &Patches, ks: std::ops::Range<usize>, a: Source, windows: &[(f64, f64); 2], class: &mut [u8], value: &mut [f64]) {
+fn first_pass(pt: &Patches, ks: std::ops::Range<usize>, a: Source, windows: &[f64; 2], class: &mut [u8], value: &mut [f64]) {
     #[cfg(target_arch = "x86_64")]
     {
         if std::arch::is_x86_feature_detected!("avx2") {
@@ -166,7 +166,7 @@ fn first_pass(pt: &Patches, ks: std::ops::Range<usize>, a: Source, windows: &[(f
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-unsafe fn first_pass_avx2(pt: &Patches, ks: std::ops::Range<usize>, a: Source, windows: &[(f64, f64); 2], class: &mut [u8], value: &mut [f64]) {
+unsafe fn first_pass_avx2(pt: &Patches, ks: std::ops::Range<usize>, a: Source, windows: &[f64; 2], class: &mut [u8], value: &mut [f64]) {
     first_pass_body(pt, ks, a, windows, class, value)
 }
 
@@ -175,7 +175,7 @@ fn first_pass_body(
     pt: &Patches,
     ks: std::ops::Range<usize>,
     a: Source,
-    windows: &[(f64, f64); 2],
+    windows: &[f64; 2],
     class: &mut [u8],
     value: &mut [f64],
 ) {
@@ -195,8 +195,8 @@ fn first_pass_body(
         let full = (hab - rb[k] > eps) & (hba - ra > eps);
         let none = (hab + rb[k] < -eps) | (hba + ra < -eps) | !recv[k];
         let (s, rs2) = (dx * dx + dy * dy + dz * dz, rs * rs);
-        let (from, to) = if reg_a & reg[k] { windows[1] } else { windows[0] };
-        let moment = full & (s >= from * rs2) & (s < to * rs2);
+        let from = if reg_a & reg[k] { windows[1] } else { windows[0] };
+        let moment = full & (s >= from * rs2);
         // the second-moment rule (crate::moments::moment_pair, same operations)
         let t = 1.0 / s;
         let (p, q) = (hab, hba);
