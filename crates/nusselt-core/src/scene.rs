@@ -112,9 +112,25 @@ impl Scene {
         *self.convex.get_or_init(|| {
             let size: f64 = self.polygons.iter().map(|p| p.radius()).fold(0.0, f64::max);
             let tol = 1e-9 * size.max(f64::MIN_POSITIVE);
-            // O(N^2) vertex tests: in parallel, stopping at the first polygon behind another
-            self.polygons.par_iter().all(|p| {
+            // Polygons sharing a plane (the same normal bit for bit, offsets within tol/4) need
+            // one test, against the group's largest offset (the strictest): meshes of flat
+            // walls have few planes. Offsets too large for the buckets are not grouped.
+            let quantum = tol / 4.0;
+            let mut groups: std::collections::HashMap<([u64; 3], i64), f64> = std::collections::HashMap::new();
+            let mut planes: Vec<(Vec3, f64)> = Vec::new();
+            for p in &self.polygons {
                 let (n, d) = (p.normal(), p.normal().dot(p.centroid()));
+                let bucket = (d / quantum).floor();
+                if bucket.abs() < 4.5e15 {
+                    let e = groups.entry(([n.x.to_bits(), n.y.to_bits(), n.z.to_bits()], bucket as i64)).or_insert(d);
+                    *e = e.max(d);
+                } else {
+                    planes.push((n, d));
+                }
+            }
+            planes.extend(groups.into_iter().map(|((n, _), d)| (Vec3::new(f64::from_bits(n[0]), f64::from_bits(n[1]), f64::from_bits(n[2])), d)));
+            // O(planes x N) vertex tests: in parallel, stopping at the first polygon behind a plane
+            planes.par_iter().all(|&(n, d)| {
                 self.polygons.iter().all(|q| {
                     // bounding sphere wholly in front: no need to look at the vertices
                     n.dot(q.centroid()) - d - q.radius() >= -tol || q.vertices().iter().all(|v| n.dot(*v) - d >= -tol)

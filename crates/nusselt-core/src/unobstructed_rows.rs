@@ -316,6 +316,34 @@ mod tests {
     }
 
     #[test]
+    fn scenes_with_something_in_between_are_recognised() {
+        // the closed cube: nothing can block; a patch inside it or outside behind a wall can
+        let inner = Polygon::new(vec![
+            Vec3::new(0.4, 0.4, 0.5),
+            Vec3::new(0.6, 0.4, 0.5),
+            Vec3::new(0.6, 0.6, 0.5),
+            Vec3::new(0.4, 0.6, 0.5),
+        ])
+        .unwrap();
+        let below = Polygon::new(inner.vertices().iter().map(|v| Vec3::new(v.x, v.y, -0.5)).collect()).unwrap();
+        // coplanar with the floor patches but slightly lower than their plane's tolerance
+        let sunk = Polygon::new(inner.vertices().iter().map(|v| Vec3::new(v.x + 2.0, v.y, -1e-6)).collect()).unwrap();
+        let flush = Polygon::new(inner.vertices().iter().map(|v| Vec3::new(v.x, v.y, 0.0)).collect()).unwrap();
+        let base = cube(3);
+        let scene = |extra: Option<&Polygon>| {
+            let mut p = base.clone();
+            p.extend(extra.cloned());
+            let n = p.len();
+            Scene::new(p, vec![true; n]).unwrap().unobstructed()
+        };
+        assert!(scene(None));
+        assert!(scene(Some(&flush)), "a patch lying in the floor blocks nothing");
+        assert!(!scene(Some(&inner)));
+        assert!(!scene(Some(&below)));
+        assert!(!scene(Some(&sunk)));
+    }
+
+    #[test]
     fn rows_skip_non_receivers_and_reject_bad_rows() {
         let polys = cube(2);
         let n = polys.len();
