@@ -1,6 +1,6 @@
 //! Times `auto` pair rows of the closed unit cube with n x n squares per face (no Python):
 //!     cargo run --release -p nusselt-core --example cube_rows -- 32 0.03
-use nusselt_core::matrix::{flatten_pair_rows, mirror_upper, UpperRow};
+use nusselt_core::matrix::{mirror_upper, UpperRow};
 use nusselt_core::obstructed::VisMethod;
 use nusselt_core::scene::{AllOptions, AnyMethod, Scene};
 use nusselt_core::{Polygon, Vec3};
@@ -39,12 +39,10 @@ fn main() {
     let rows: Vec<usize> = (0..n).collect();
     for _ in 0..2 {
         let t = Instant::now();
-        let r = scene.pair_rows(&rows, AnyMethod::Visible(VisMethod::Auto), &o, &AtomicBool::new(false)).unwrap();
+        let b = scene.pair_block(&rows, AnyMethod::Visible(VisMethod::Auto), &o, &AtomicBool::new(false)).unwrap();
         let t1 = t.elapsed().as_secs_f64();
-        let b = flatten_pair_rows(&r);
-        let t2 = t.elapsed().as_secs_f64();
         let pairs = n * (n - 1) / 2;
-        println!("{n} patches, tol {tol:e}: pair rows {t1:.3} s ({:.1} M pairs/s), flatten {:.3} s, {} entries", pairs as f64 / t1 / 1e6, t2 - t1, b.g.len());
+        println!("{n} patches, tol {tol:e}: pair rows {t1:.3} s ({:.1} M pairs/s), {} entries", pairs as f64 / t1 / 1e6, b.g.len());
         let areas: Vec<f64> = scene.polygons().iter().map(|p| p.area()).collect();
         let upper: Vec<UpperRow> = (0..n)
             .map(|i| {

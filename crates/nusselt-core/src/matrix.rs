@@ -111,6 +111,23 @@ pub struct PairBlock {
     pub std: Option<Vec<f64>>,
 }
 
+impl PairBlock {
+    /// The block's rows one by one (row k of the rows it was computed for).
+    pub fn rows(&self) -> Vec<PairRow> {
+        self.indptr
+            .windows(2)
+            .map(|w| {
+                let (s, e) = (w[0] as usize, w[1] as usize);
+                PairRow {
+                    cols: self.cols[s..e].iter().map(|&j| j as u32).collect(),
+                    g: self.g[s..e].to_vec(),
+                    std: self.std.as_ref().map(|sd| sd[s..e].to_vec()),
+                }
+            })
+            .collect()
+    }
+}
+
 /// The rows' entries laid end to end, copied in parallel (the copy of a big block is
 /// dominated by first touches of fresh memory, which then happen on every thread).
 pub fn flatten_pair_rows(rows: &[PairRow]) -> PairBlock {

@@ -14,7 +14,7 @@ use crate::hemisphere::{
     RowResult, SinglePlaneOptions, SourcePoints,
 };
 pub use crate::matrix::PairRow;
-use crate::matrix::{full_rows, upper_pair_rows};
+use crate::matrix::{flatten_pair_rows, full_rows, upper_pair_rows, PairBlock};
 use crate::method::{self, Method, Options, RuleCache};
 use crate::obstructed::{self, Context, Estimate, VisMethod, VisOptions};
 use crate::unobstructed_rows;
@@ -171,7 +171,7 @@ impl Scene {
                 })
             }
             AnyMethod::Visible(VisMethod::Auto) if free => {
-                return unobstructed_rows::pair_rows(p, &self.receiver, &self.rules, rows, o.exact.tol, cancel);
+                return Ok(unobstructed_rows::pair_block(p, &self.receiver, &self.rules, rows, o.exact.tol, cancel)?.rows());
             }
             AnyMethod::Visible(vm) => {
                 let ctx = self.context()?;
@@ -193,6 +193,16 @@ impl Scene {
                 })
                 .collect()
         })
+    }
+
+    /// [`Scene::pair_rows`] as one block of CSR parts (what the Python layer stores); an
+    /// unobstructed scene with `auto` writes its rows straight into the block.
+    pub fn pair_block(&self, rows: &[usize], m: AnyMethod, o: &AllOptions, cancel: &AtomicBool) -> Result<PairBlock> {
+        if m == AnyMethod::Visible(VisMethod::Auto) && self.unobstructed() {
+            o.check()?;
+            return unobstructed_rows::pair_block(&self.polygons, &self.receiver, &self.rules, rows, o.exact.tol, cancel);
+        }
+        Ok(flatten_pair_rows(&self.pair_rows(rows, m, o, cancel)?))
     }
 
     /// Whole rows F_i. by hemisphere sampling.

@@ -12,7 +12,7 @@ use crate::geometry::{Polygon, Vec3};
 use crate::method::{self, Facing, RuleCache};
 use crate::moments::Moments;
 use crate::quadrature::FarPlan;
-use crate::matrix::PairRow;
+use crate::matrix::PairBlock;
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicBool, Ordering};
 
@@ -89,14 +89,14 @@ const CHUNK: usize = 256;
 /// moment rule everywhere (it vectorises, and the moment rule is what most pairs of a large
 /// scene use), then a scalar pass keeps the moment values and computes the other pairs
 /// exactly as [`crate::method::area_factor`] would.
-pub(crate) fn pair_rows(
+pub(crate) fn pair_block(
     polys: &[Polygon],
     receiver: &[bool],
     rules: &RuleCache,
     rows: &[usize],
     tol: f64,
     cancel: &AtomicBool,
-) -> Result<Vec<PairRow>> {
+) -> Result<PairBlock> {
     let n = polys.len();
     if receiver.len() != n {
         return Err(Error::InvalidArgument(format!("receiver mask has {} entries for {n} polygons", receiver.len())));
@@ -109,28 +109,39 @@ pub(crate) fn pair_rows(
     // only the polygons these rows touch (j > min row) need their data
     let lo = rows.iter().copied().min().unwrap_or(n);
     let pt = Patches::new(polys, receiver, rules, lo);
-    rows.par_iter()
-        .map(|&i| {
+    // Each row writes straight into the block's arrays, into room for all its pairs; the rows
+    // are then moved together in place. No per-row buffers and no second copy of the block.
+    let room: Vec<usize> = rows.iter().map(|&i| if receiver[i] { n - i - 1 } else { 0 }).collect();
+    let total: usize = room.iter().sum();
+    let (mut cols, mut vals) = (vec![0i32; total], vec![0.0f64; total]);
+    let mut jobs = Vec::with_capacity(rows.len());
+    let (mut rc, mut rg) = (&mut cols[..], &mut vals[..]);
+    for (&i, &len) in rows.iter().zip(&room) {
+        let (a, b) = std::mem::take(&mut rc).split_at_mut(len);
+        let (c, d) = std::mem::take(&mut rg).split_at_mut(len);
+        jobs.push((i, a, c));
+        (rc, rg) = (b, d);
+    }
+    let counts: Vec<usize> = jobs
+        .into_par_iter()
+        .map(|(i, out_c, out_g)| {
             if cancel.load(Ordering::Relaxed) {
                 return Err(Error::Cancelled);
             }
-            let mut row = PairRow::default();
             if !receiver[i] {
-                return Ok(row);
+                return Ok(0);
             }
-            // most pairs of an enclosure exchange something: room for all, no regrowth
-            row.cols.reserve(n - i - 1);
-            row.g.reserve(n - i - 1);
+            let mut len = 0;
             let ia = i - lo;
             let (ca, na, ra, area_a, reg_a) = (pt.centroid(ia), pt.normal(ia), pt.radius[ia], pt.area[ia], pt.regular[ia]);
             let ma: [f64; 6] = std::array::from_fn(|e| pt.m[e][ia]);
             let (mut class, mut value) = ([SKIP; CHUNK], [0.0f64; CHUNK]);
             let mut start = ia + 1;
             while start < n - lo {
-                let len = (n - lo - start).min(CHUNK);
-                let end = start + len;
-                first_pass(&pt, start..end, (ca, na, ra, area_a, reg_a, &ma), &windows, &mut class[..len], &mut value[..len]);
-                for (e, (&cl, &g)) in class[..len].iter().zip(&value[..len]).enumerate() {
+                let chunk = (n - lo - start).min(CHUNK);
+                let end = start + chunk;
+                first_pass(&pt, start..end, (ca, na, ra, area_a, reg_a, &ma), &windows, &mut class[..chunk], &mut value[..chunk]);
+                for (e, (&cl, &g)) in class[..chunk].iter().zip(&value[..chunk]).enumerate() {
                     let j = start + e + lo;
                     let g = match cl {
                         SKIP => continue,
@@ -138,15 +149,29 @@ pub(crate) fn pair_rows(
                         _ => other_pair(polys, rules, &plan, &pt, i, j, lo),
                     };
                     if g != 0.0 {
-                        row.cols.push(j as u32);
-                        row.g.push(g);
+                        out_c[len] = j as i32;
+                        out_g[len] = g;
+                        len += 1;
                     }
                 }
                 start = end;
             }
-            Ok(row)
+            Ok(len)
         })
-        .collect()
+        .collect::<Result<_>>()?;
+    let mut indptr = Vec::with_capacity(rows.len() + 1);
+    indptr.push(0i64);
+    let (mut from, mut to) = (0usize, 0usize);
+    for (&len, &r) in counts.iter().zip(&room) {
+        cols.copy_within(from..from + len, to);
+        vals.copy_within(from..from + len, to);
+        from += r;
+        to += len;
+        indptr.push(to as i64);
+    }
+    cols.truncate(to);
+    vals.truncate(to);
+    Ok(PairBlock { indptr, cols, g: vals, std: None })
 }
 
 type Source<'a> = (Vec3, Vec3, f64, f64, bool, &'a [f64; 6]);
@@ -354,6 +379,16 @@ mod tests {
         let m = AnyMethod::Visible(VisMethod::Auto);
         let out = scene.pair_rows(&[0, 3], m, &o, &AtomicBool::new(false)).unwrap();
         assert!(!out[0].cols.contains(&3) && out[1].is_empty());
+        // a block of rows in any order holds each row's entries where its indptr says
+        let block = scene.pair_block(&[5, 0, 3, 1], m, &o, &AtomicBool::new(false)).unwrap();
+        let single = |i: usize| scene.pair_rows(&[i], m, &o, &AtomicBool::new(false)).unwrap().remove(0);
+        for (k, &i) in [5usize, 0, 3, 1].iter().enumerate() {
+            let (s, e) = (block.indptr[k] as usize, block.indptr[k + 1] as usize);
+            let row = single(i);
+            assert_eq!(block.cols[s..e].iter().map(|&j| j as u32).collect::<Vec<_>>(), row.cols, "row {i}");
+            assert_eq!(&block.g[s..e], &row.g[..], "row {i}");
+        }
+        assert_eq!(*block.indptr.last().unwrap() as usize, block.g.len());
         assert!(scene.pair_rows(&[n], m, &o, &AtomicBool::new(false)).is_err());
         let cancelled = scene.pair_rows(&[0], m, &o, &AtomicBool::new(true));
         assert_eq!(cancelled.unwrap_err(), crate::Error::Cancelled);

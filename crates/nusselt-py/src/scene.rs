@@ -4,7 +4,6 @@ use crate::errors::guard;
 use crate::options::options;
 use crate::threads::pool;
 use nusselt_core::geometry::{GeometryError, Polygon};
-use nusselt_core::matrix::flatten_pair_rows;
 use nusselt_core::scene::{AnyMethod, Scene};
 use nusselt_core::Error;
 use numpy::{IntoPyArray, PyArray1, PyArray2, PyReadonlyArray1, PyReadonlyArray2};
@@ -91,7 +90,7 @@ impl SceneCore {
         let b = py.detach(|| {
             guard(|| {
                 self.valid()?;
-                pool.install(|| self.scene.pair_rows(&rows, m, &o, &AtomicBool::new(false)).map(|r| flatten_pair_rows(&r)))
+                pool.install(|| self.scene.pair_block(&rows, m, &o, &AtomicBool::new(false)))
             })
         })?;
         Ok((b.indptr.into_pyarray(py), b.cols.into_pyarray(py), b.g.into_pyarray(py), b.std.map(|s| s.into_pyarray(py))))
