@@ -128,6 +128,20 @@ impl PairBlock {
     }
 }
 
+/// `s` cut front to back into consecutive pieces of the given lengths (each owned by one
+/// parallel job). An empty `s` gives empty pieces (optional arrays that are not kept).
+pub(crate) fn split_lengths<T>(mut s: &mut [T], lens: impl IntoIterator<Item = usize>) -> Vec<&mut [T]> {
+    lens.into_iter()
+        .map(|len| {
+            debug_assert!(s.is_empty() || len <= s.len(), "pieces longer than the slice");
+            let at = len.min(s.len());
+            let (piece, rest) = std::mem::take(&mut s).split_at_mut(at);
+            s = rest;
+            piece
+        })
+        .collect()
+}
+
 /// The rows' entries laid end to end, copied in parallel (the copy of a big block is
 /// dominated by first touches of fresh memory, which then happen on every thread).
 pub fn flatten_pair_rows(rows: &[PairRow]) -> PairBlock {
@@ -141,18 +155,9 @@ pub fn flatten_pair_rows(rows: &[PairRow]) -> PairBlock {
     let mut cols = vec![0i32; nnz];
     let mut g = vec![0.0f64; nnz];
     let mut std = if with_std { vec![0.0f64; nnz] } else { Vec::new() };
-    // each row's destination slices, split off front to back
-    let mut jobs = Vec::with_capacity(rows.len());
-    let (mut rc, mut rg, mut rs) = (&mut cols[..], &mut g[..], &mut std[..]);
-    for r in rows {
-        let len = r.len();
-        let (a, b) = std::mem::take(&mut rc).split_at_mut(len);
-        let (c, d) = std::mem::take(&mut rg).split_at_mut(len);
-        let (e, f) = if with_std { std::mem::take(&mut rs).split_at_mut(len) } else { (&mut [][..], &mut [][..]) };
-        jobs.push((r, a, c, e));
-        (rc, rg, rs) = (b, d, f);
-    }
-    jobs.into_par_iter().with_min_len(64).for_each(|(r, c, gg, sd)| {
+    let lens = || rows.iter().map(|r| r.len());
+    let jobs: Vec<_> = rows.iter().zip(split_lengths(&mut cols, lens())).zip(split_lengths(&mut g, lens())).zip(split_lengths(&mut std, lens())).collect();
+    jobs.into_par_iter().with_min_len(64).for_each(|(((r, c), gg), sd)| {
         for (dst, &j) in c.iter_mut().zip(&r.cols) {
             *dst = j as i32;
         }
@@ -232,16 +237,14 @@ pub fn mirror_upper(areas: &[f64], rows: &[UpperRow<'_>], with_std: bool) -> Res
         }
     }
     bounds.push(n);
-    let mut jobs = Vec::new();
-    let (mut ri, mut rd, mut rs) = (&mut indices[..], &mut data[..], &mut sdata[..]);
-    for w in bounds.windows(2) {
-        let len = (count[w[1]] - count[w[0]]) as usize;
-        let (a, b) = std::mem::take(&mut ri).split_at_mut(len);
-        let (c, d) = std::mem::take(&mut rd).split_at_mut(len);
-        let (e, f) = if with_std { std::mem::take(&mut rs).split_at_mut(len) } else { (&mut [][..], &mut [][..]) };
-        jobs.push((w[0], w[1], a, c, e));
-        (ri, rd, rs) = (b, d, f);
-    }
+    let lens = || bounds.windows(2).map(|w| (count[w[1]] - count[w[0]]) as usize);
+    let jobs: Vec<_> = bounds
+        .windows(2)
+        .zip(split_lengths(&mut indices, lens()))
+        .zip(split_lengths(&mut data, lens()))
+        .zip(split_lengths(&mut sdata, lens()))
+        .map(|(((w, ind), dat), sd)| (w[0], w[1], ind, dat, sd))
+        .collect();
     jobs.into_par_iter().for_each(|(lo, hi, ind, dat, sd)| {
         let base = count[lo] as usize;
         let mut next: Vec<usize> = (lo..hi).map(|r| count[r] as usize - base).collect();

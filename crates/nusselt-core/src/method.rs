@@ -126,11 +126,6 @@ pub fn facing(a: &Polygon, b: &Polygon) -> Facing {
     }
 }
 
-/// Relative separation: centroid distance over the sum of bounding radii.
-pub fn relative_separation(a: &Polygon, b: &Polygon) -> f64 {
-    a.centroid().distance(b.centroid()) / (a.radius() + b.radius())
-}
-
 /// A_a F_ab (= A_b F_ba) for an unobstructed pair. With `cache`, `ia`/`ib` index its rules.
 pub fn area_factor(
     a: &Polygon,
@@ -156,18 +151,21 @@ pub fn area_factor_facing(
         Method::Analytic => Ok(analytic::polygon_pair(a, b)),
         Method::Contour => contour::polygon_pair(a, b, opts.nodes),
         Method::Auto => {
-            if f == Facing::None {
-                return Ok(0.0);
-            }
-            if f == Facing::Full {
-                // squared distance and radius sum exactly as the scene loop forms them, so a
-                // pair on a threshold gets the same rule in both
-                let (d, rsum) = (b.centroid() - a.centroid(), a.radius() + b.radius());
-                let regular = quadrature::is_regular_quad(a) && quadrature::is_regular_quad(b);
-                let rule = FarPlan::cached(opts.tol).rule_sq(d.dot(d), rsum * rsum, regular);
-                return Ok(full_facing_pair(a, b, rule, cache));
-            }
-            Ok(analytic::polygon_pair(a, b))
+            let regular = quadrature::is_regular_quad(a) && quadrature::is_regular_quad(b);
+            Ok(auto_pair(a, b, f, &FarPlan::cached(opts.tol), regular, cache))
+        }
+    }
+}
+
+/// `auto` for an unobstructed pair whose facing `f` is known, with the plan of its tolerance
+/// and whether both are regular quads (scene loops know both once for all pairs).
+pub fn auto_pair(a: &Polygon, b: &Polygon, f: Facing, plan: &FarPlan, regular: bool, cache: Option<(&RuleCache, usize, usize)>) -> f64 {
+    match f {
+        Facing::None => 0.0,
+        Facing::Partial => analytic::polygon_pair(a, b),
+        Facing::Full => {
+            let (d, rsum) = (b.centroid() - a.centroid(), a.radius() + b.radius());
+            full_facing_pair(a, b, plan.rule_sq(d.dot(d), rsum * rsum, regular), cache)
         }
     }
 }

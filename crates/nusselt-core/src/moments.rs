@@ -63,15 +63,27 @@ impl Moments {
         }
         Moments { area: poly.area(), centroid: c, normal: poly.normal(), m }
     }
+}
 
-    fn times(&self, d: Vec3) -> Vec3 {
-        let m = &self.m;
-        Vec3::new(m[0] * d.x + m[1] * d.y + m[2] * d.z, m[1] * d.x + m[3] * d.y + m[4] * d.z, m[2] * d.x + m[4] * d.y + m[5] * d.z)
-    }
+/// M d for the packed symmetric moments m (xx, xy, xz, yy, yz, zz).
+#[inline(always)]
+fn times(m: &[f64; 6], d: Vec3) -> Vec3 {
+    Vec3::new(m[0] * d.x + m[1] * d.y + m[2] * d.z, m[1] * d.x + m[3] * d.y + m[4] * d.z, m[2] * d.x + m[4] * d.y + m[5] * d.z)
+}
 
-    fn trace(&self) -> f64 {
-        self.m[0] + self.m[3] + self.m[5]
-    }
+/// The rule's formula on plain numbers: d = c_b - c_a, the unit normals, the moments of a and b
+/// and A_a A_b. Shared by [`moment_pair`] and the vectorised scene loop
+/// (`unobstructed_rows`), which gathers b's numbers from arrays.
+#[inline(always)]
+pub(crate) fn moment_formula(d: Vec3, na: Vec3, nb: Vec3, ma: &[f64; 6], mb: &[f64; 6], area_product: f64) -> f64 {
+    let t = 1.0 / d.dot(d);
+    let (p, q) = (na.dot(d), -nb.dot(d));
+    let (mad, mbd) = (times(ma, d), times(mb, d));
+    let dmd = d.dot(mad) + d.dot(mbd);
+    let trace = (ma[0] + ma[3] + ma[5]) + (mb[0] + mb[3] + mb[5]);
+    let pq = p * q;
+    let bracket = pq - t * (4.0 * (q * na.dot(mbd) - p * nb.dot(mad)) + 2.0 * pq * trace) + 12.0 * t * t * pq * dmd;
+    (area_product / PI) * t * t * bracket.max(0.0)
 }
 
 /// A_a F_ab by the second-moment rule (see the module docs); valid for a pair in which each
@@ -79,15 +91,7 @@ impl Moments {
 /// Symmetric in a and b up to rounding.
 #[inline(always)]
 pub fn moment_pair(a: &Moments, b: &Moments) -> f64 {
-    let d = b.centroid - a.centroid;
-    let t = 1.0 / d.dot(d);
-    let (p, q) = (a.normal.dot(d), -b.normal.dot(d));
-    let (mad, mbd) = (a.times(d), b.times(d));
-    let dmd = d.dot(mad) + d.dot(mbd);
-    let pq = p * q;
-    let bracket = pq - t * (4.0 * (q * a.normal.dot(mbd) - p * b.normal.dot(mad)) + 2.0 * pq * (a.trace() + b.trace()))
-        + 12.0 * t * t * pq * dmd;
-    (a.area * b.area / PI) * t * t * bracket.max(0.0)
+    moment_formula(b.centroid - a.centroid, a.normal, b.normal, &a.m, &b.m, a.area * b.area)
 }
 
 /// The centroid (one-point) rule: A_a A_b K(c_b - c_a), for comparison and for pairs so far

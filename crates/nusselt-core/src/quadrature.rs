@@ -566,9 +566,6 @@ const REGULAR_MOMENT_ERRS: &[f64] = &[
 ];
 const _: () = assert!(REGULAR_FAR_ERRS.len() == FAR_SEPS.len() && REGULAR_MOMENT_ERRS.len() == FAR_SEPS.len());
 
-// far_field_order's per-thread order table has room for 32 rows
-const _: () = assert!(FAR_SEPS.len() <= 32);
-
 /// Largest order [`far_field_order`] returns.
 pub const MAX_FAR_ORDER: usize = 16;
 
@@ -653,19 +650,7 @@ pub fn far_field_order(rel_sep: f64, rel_tol: f64) -> Option<usize> {
             e.max(FLOOR) * FAR_SAFETY <= rel_tol
         });
     }
-    // Scene loops ask with one tolerance millions of times: remember the orders per row for
-    // the last tolerance seen on this thread.
-    thread_local! {
-        static ORDERS: std::cell::Cell<(u64, [u8; 32])> = const { std::cell::Cell::new((u64::MAX, [0; 32])) };
-    }
-    let (bits, mut table) = ORDERS.get();
-    if bits != rel_tol.to_bits() {
-        for (r, slot) in table.iter_mut().enumerate().take(last) {
-            *slot = order_for(&|n| suffix[r][n - 1].max(FLOOR) * FAR_SAFETY <= rel_tol).map_or(0, |n| n as u8);
-        }
-        ORDERS.set((rel_tol.to_bits(), table));
-    }
-    (table[row] > 0).then_some(table[row] as usize)
+    order_for(&|n| suffix[row][n - 1].max(FLOOR) * FAR_SAFETY <= rel_tol)
 }
 
 /// Whether `poly` belongs to the regular-quad class of the calibration tables: a
@@ -787,10 +772,6 @@ impl FarPlan {
                 }
             }
         })
-    }
-
-    pub fn tol(&self) -> f64 {
-        self.tol
     }
 
     /// The rule for relative separation `rel_sep` = |c_a - c_b| / (r_a + r_b); `regular`:

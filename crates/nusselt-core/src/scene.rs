@@ -171,7 +171,7 @@ impl Scene {
                 })
             }
             AnyMethod::Visible(VisMethod::Auto) if free => {
-                return Ok(unobstructed_rows::pair_block(p, &self.receiver, &self.rules, rows, o.exact.tol, cancel)?.rows());
+                return Ok(unobstructed_rows::pair_block(p, &self.receiver, &self.rules, rows, &o.exact, cancel)?.rows());
             }
             AnyMethod::Visible(vm) => {
                 let ctx = self.context()?;
@@ -200,7 +200,7 @@ impl Scene {
     pub fn pair_block(&self, rows: &[usize], m: AnyMethod, o: &AllOptions, cancel: &AtomicBool) -> Result<PairBlock> {
         if m == AnyMethod::Visible(VisMethod::Auto) && self.unobstructed() {
             o.check()?;
-            return unobstructed_rows::pair_block(&self.polygons, &self.receiver, &self.rules, rows, o.exact.tol, cancel);
+            return unobstructed_rows::pair_block(&self.polygons, &self.receiver, &self.rules, rows, &o.exact, cancel);
         }
         Ok(flatten_pair_rows(&self.pair_rows(rows, m, o, cancel)?))
     }

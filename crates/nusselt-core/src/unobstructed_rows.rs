@@ -9,10 +9,10 @@
 
 use crate::error::{Error, Result};
 use crate::geometry::{Polygon, Vec3};
-use crate::method::{self, Facing, RuleCache};
-use crate::moments::Moments;
+use crate::method::{self, Facing, Options, RuleCache};
+use crate::moments::{moment_formula, Moments};
 use crate::quadrature::FarPlan;
-use crate::matrix::PairBlock;
+use crate::matrix::{split_lengths, PairBlock};
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicBool, Ordering};
 
@@ -82,7 +82,7 @@ const OTHER: u8 = 2;
 const CHUNK: usize = 256;
 
 /// G_ij = A_i F_ij for each row i of `rows` and receiver j > i, by `auto` at relative
-/// accuracy `tol`, for a scene in which nothing blocks anything (the caller checks).
+/// accuracy `opts.tol`, for a scene in which nothing blocks anything (the caller checks).
 ///
 /// Each row runs in two passes per chunk of columns: a branch-free pass over all of them
 /// classifies each pair (nothing exchanged / moment rule / anything else) and evaluates the
@@ -94,7 +94,7 @@ pub(crate) fn pair_block(
     receiver: &[bool],
     rules: &RuleCache,
     rows: &[usize],
-    tol: f64,
+    opts: &Options,
     cancel: &AtomicBool,
 ) -> Result<PairBlock> {
     let n = polys.len();
@@ -104,7 +104,7 @@ pub(crate) fn pair_block(
     if let Some(&bad) = rows.iter().find(|&&i| i >= n) {
         return Err(Error::InvalidArgument(format!("row {bad} out of range for {n} polygons")));
     }
-    let plan = FarPlan::new(tol);
+    let plan = FarPlan::new(opts.tol);
     let windows = [plan.moment_from_sq(false), plan.moment_from_sq(true)];
     // only the polygons these rows touch (j > min row) need their data
     let lo = rows.iter().copied().min().unwrap_or(n);
@@ -114,17 +114,10 @@ pub(crate) fn pair_block(
     let room: Vec<usize> = rows.iter().map(|&i| if receiver[i] { n - i - 1 } else { 0 }).collect();
     let total: usize = room.iter().sum();
     let (mut cols, mut vals) = (vec![0i32; total], vec![0.0f64; total]);
-    let mut jobs = Vec::with_capacity(rows.len());
-    let (mut rc, mut rg) = (&mut cols[..], &mut vals[..]);
-    for (&i, &len) in rows.iter().zip(&room) {
-        let (a, b) = std::mem::take(&mut rc).split_at_mut(len);
-        let (c, d) = std::mem::take(&mut rg).split_at_mut(len);
-        jobs.push((i, a, c));
-        (rc, rg) = (b, d);
-    }
+    let jobs: Vec<_> = rows.iter().zip(split_lengths(&mut cols, room.iter().copied())).zip(split_lengths(&mut vals, room.iter().copied())).collect();
     let counts: Vec<usize> = jobs
         .into_par_iter()
-        .map(|(i, out_c, out_g)| {
+        .map(|((&i, out_c), out_g)| {
             if cancel.load(Ordering::Relaxed) {
                 return Err(Error::Cancelled);
             }
@@ -210,7 +203,6 @@ fn first_pass_body(
     let (rb, ab) = (&pt.radius[ks.clone()], &pt.area[ks.clone()]);
     let m: [&[f64]; 6] = std::array::from_fn(|e| &pt.m[e][ks.clone()]);
     let (reg, recv) = (&pt.regular[ks.clone()], &pt.receiver[ks.clone()]);
-    let inv_pi = std::f64::consts::FRAC_1_PI;
     for k in 0..class.len() {
         let (dx, dy, dz) = (cx[k] - ca.x, cy[k] - ca.y, cz[k] - ca.z);
         let hab = na.x * dx + na.y * dy + na.z * dz;
@@ -222,52 +214,25 @@ fn first_pass_body(
         let (s, rs2) = (dx * dx + dy * dy + dz * dz, rs * rs);
         let from = if reg_a & reg[k] { windows[1] } else { windows[0] };
         let moment = full & (s >= from * rs2);
-        // the second-moment rule (crate::moments::moment_pair, same operations)
-        let t = 1.0 / s;
-        let (p, q) = (hab, hba);
-        let mad = [ma[0] * dx + ma[1] * dy + ma[2] * dz, ma[1] * dx + ma[3] * dy + ma[4] * dz, ma[2] * dx + ma[4] * dy + ma[5] * dz];
-        let mbd = [
-            m[0][k] * dx + m[1][k] * dy + m[2][k] * dz,
-            m[1][k] * dx + m[3][k] * dy + m[4][k] * dz,
-            m[2][k] * dx + m[4][k] * dy + m[5][k] * dz,
-        ];
-        let dmd = (dx * mad[0] + dy * mad[1] + dz * mad[2]) + (dx * mbd[0] + dy * mbd[1] + dz * mbd[2]);
-        let na_mbd = na.x * mbd[0] + na.y * mbd[1] + na.z * mbd[2];
-        let nb_mad = nx[k] * mad[0] + ny[k] * mad[1] + nz[k] * mad[2];
-        let trace = (ma[0] + ma[3] + ma[5]) + (m[0][k] + m[3][k] + m[5][k]);
-        let pq = p * q;
-        let bracket = pq - t * (4.0 * (q * na_mbd - p * nb_mad) + 2.0 * pq * trace) + 12.0 * t * t * pq * dmd;
-        value[k] = (area_a * ab[k] * inv_pi) * t * t * bracket.max(0.0);
+        let mb = [m[0][k], m[1][k], m[2][k], m[3][k], m[4][k], m[5][k]];
+        let nb = Vec3::new(nx[k], ny[k], nz[k]);
+        value[k] = moment_formula(Vec3::new(dx, dy, dz), na, nb, ma, &mb, area_a * ab[k]);
         class[k] = if none { SKIP } else if moment { MOMENT } else { OTHER };
     }
 }
 
-/// A pair the first pass left to the general path: facing test, rule, that rule.
-#[cold]
+/// A pair the first pass left to the general path: [`method::auto_pair`], with the facing
+/// test spared its vertex loops for same-plane pairs.
 fn other_pair(polys: &[Polygon], rules: &RuleCache, plan: &FarPlan, pt: &Patches, i: usize, j: usize, lo: usize) -> f64 {
     let (ia, ib) = (i - lo, j - lo);
-    let (ca, na, ra) = (pt.centroid(ia), pt.normal(ia), pt.radius[ia]);
-    let (cb, nb, rb) = (pt.centroid(ib), pt.normal(ib), pt.radius[ib]);
-    let d = cb - ca;
-    let (hab, hba) = (na.dot(d), -nb.dot(d));
-    let rsum = ra + rb;
-    let eps = 1e-12 * rsum;
-    // method::facing's bounding-sphere tests, then its vertex tests when undecided
-    let f = if hab - rb > eps && hba - ra > eps {
-        Facing::Full
-    } else if hab + rb < -eps || hba + ra < -eps || coplanar(hab, pt.thickness[ib], rb, na, nb, eps) {
+    let (na, nb, rb) = (pt.normal(ia), pt.normal(ib), pt.radius[ib]);
+    let hab = na.dot(pt.centroid(ib) - pt.centroid(ia));
+    let f = if coplanar(hab, pt.thickness[ib], rb, na, nb, 1e-12 * (pt.radius[ia] + rb)) {
         Facing::None
     } else {
         method::facing(&polys[i], &polys[j])
     };
-    match f {
-        Facing::None => 0.0,
-        Facing::Partial => crate::analytic::polygon_pair(&polys[i], &polys[j]),
-        Facing::Full => {
-            let rule = plan.rule_sq(d.dot(d), rsum * rsum, pt.regular[ia] && pt.regular[ib]);
-            method::full_facing_pair(&polys[i], &polys[j], rule, Some((rules, i, j)))
-        }
-    }
+    method::auto_pair(&polys[i], &polys[j], f, plan, pt.regular[ia] && pt.regular[ib], Some((rules, i, j)))
 }
 
 #[cfg(test)]

@@ -192,26 +192,8 @@ fn random_blockers_match_point_sampling() {
     for case in 0..6 {
         let p = Vec3::new(rng.range(0.2, 0.8), rng.range(0.2, 0.8), rng.range(0.6, 1.2));
         let n = (DOWN + 0.4 * rng.unit()).normalize();
-        let blockers: Vec<Polygon> = (0..6)
-            .map(|_| {
-                // on the segment from p to a random receiver point, some beyond either end
-                let y = Vec3::new(rng.range(0.0, 1.0), rng.range(0.0, 1.0), 0.0);
-                let c = p + rng.range(-0.1, 1.1) * (y - p);
-                let s = rng.range(0.05, 0.2);
-                // a regular polygon tilted up to ~35 degrees from horizontal, facing either way
-                let nb = (Vec3::Z * if rng.f() < 0.5 { 1.0 } else { -1.0 } + 0.7 * rng.unit()).normalize();
-                let (t, b) = crate::geometry::tangent_frame(nb);
-                let m = 3 + (rng.f() * 3.0) as usize;
-                let ph = rng.f();
-                let vs = (0..m)
-                    .map(|k| {
-                        let a = std::f64::consts::TAU * (k as f64 + ph) / m as f64;
-                        c + s * (a.cos() * t + a.sin() * b)
-                    })
-                    .collect();
-                Polygon::new(vs).unwrap()
-            })
-            .collect();
+        // regular polygons tilted up to ~35 degrees from horizontal, facing either way
+        let blockers: Vec<Polygon> = (0..6).map(|_| random_blocker(&mut rng, p, (0.0, 1.0), (0.05, 0.2), 0.7, 3)).collect();
         let refs: Vec<&Polygon> = blockers.iter().collect();
         let got = visible_area(p, n, &rec, &refs);
         // Midpoint grid over the receiver's bounding box, kept where inside the receiver.
@@ -377,27 +359,31 @@ fn shadowed_part_is_free_minus_visible_and_zero_without_shadow() {
 
 /// Random receiver point and blockers between it and a receiver: convex tilted n-gons, and
 /// (when `tiles`) a flat blocker cut into edge-adjacent tiles, as meshed scenes have.
+/// A regular polygon (3 to 2 + `sides` corners, `size` its circumradius range) centred on the
+/// segment from `p` to a random point of the square `span` x `span` at z = 0, some beyond
+/// either end; its normal is ±z plus up to `tilt` of a random direction.
+fn random_blocker(rng: &mut Rng, p: Vec3, span: (f64, f64), size: (f64, f64), tilt: f64, sides: usize) -> Polygon {
+    let y = Vec3::new(rng.range(span.0, span.1), rng.range(span.0, span.1), 0.0);
+    let c = p + rng.range(-0.1, 1.1) * (y - p);
+    let s = rng.range(size.0, size.1);
+    let nb = (Vec3::Z * if rng.f() < 0.5 { 1.0 } else { -1.0 } + tilt * rng.unit()).normalize();
+    let (t, b) = crate::geometry::tangent_frame(nb);
+    let m = 3 + (rng.f() * sides as f64) as usize;
+    let ph = rng.f();
+    let vs = (0..m)
+        .map(|k| {
+            let a = std::f64::consts::TAU * (k as f64 + ph) / m as f64;
+            c + s * (a.cos() * t + a.sin() * b)
+        })
+        .collect();
+    Polygon::new(vs).unwrap()
+}
+
 fn random_case(rng: &mut Rng, tiles: bool) -> (Vec3, Vec3, Vec<Polygon>) {
     let p = Vec3::new(rng.range(-0.2, 1.2), rng.range(-0.2, 1.2), rng.range(0.3, 1.5));
     let n = (DOWN + 0.8 * rng.unit()).normalize();
-    let mut blockers: Vec<Polygon> = (0..1 + (rng.f() * 4.0) as usize)
-        .map(|_| {
-            let y = Vec3::new(rng.range(-0.2, 1.2), rng.range(-0.2, 1.2), 0.0);
-            let c = p + rng.range(-0.1, 1.1) * (y - p);
-            let s = rng.range(0.02, 0.5);
-            let nb = (Vec3::Z * if rng.f() < 0.5 { 1.0 } else { -1.0 } + 1.2 * rng.unit()).normalize();
-            let (t, b) = crate::geometry::tangent_frame(nb);
-            let m = 3 + (rng.f() * 4.0) as usize;
-            let ph = rng.f();
-            let vs = (0..m)
-                .map(|k| {
-                    let a = std::f64::consts::TAU * (k as f64 + ph) / m as f64;
-                    c + s * (a.cos() * t + a.sin() * b)
-                })
-                .collect();
-            Polygon::new(vs).unwrap()
-        })
-        .collect();
+    let mut blockers: Vec<Polygon> =
+        (0..1 + (rng.f() * 4.0) as usize).map(|_| random_blocker(rng, p, (-0.2, 1.2), (0.02, 0.5), 1.2, 4)).collect();
     if tiles {
         let z = rng.range(0.05, 0.9) * p.z;
         let (x0, y0) = (rng.range(-0.3, 0.8), rng.range(-0.3, 0.8));
