@@ -86,7 +86,7 @@ def table() -> None:
                 print(f"{'':24s} {method:12s} {label:18s} {f:14.10f} {abs(f - ref):10.2e} {ms:9.3f}", flush=True)
 
 
-def room(n: int, method: str, tol: float | None = None) -> None:
+def room(n: int, method: str, tol: float | None = None, source: str | None = None) -> None:
     from nusselt.scene import Scene
 
     polys = []
@@ -108,6 +108,8 @@ def room(n: int, method: str, tol: float | None = None) -> None:
     scene = Scene.from_polygons(polys)
     t0 = time.perf_counter()
     kw = {} if tol is None else {"obstructed_tol" if method == "auto" else "tol": tol}
+    if source is not None:
+        kw["source"] = source if source in ("centre", "adaptive") else int(source)
     res = nusselt.form_factors(scene, method=method, **kw)
     dt = time.perf_counter() - t0
     print(f"room with inner box: {len(scene)} patches, method {method} {kw or 'default'}: {dt:.2f} s wall, "
@@ -121,9 +123,11 @@ if __name__ == "__main__":
     p.add_argument("--room-method", default="auto")
     p.add_argument("--room-tol", type=float, default=None,
                    help="obstructed accuracy target of the room (auto: obstructed_tol, clipping: tol)")
+    p.add_argument("--room-source", default=None,
+                   help="clipping only: source rule of obstructed pairs ('centre' or k for k x k Gauss points)")
     p.add_argument("--no-table", action="store_true")
     a = p.parse_args()
     if not a.no_table:
         table()
     if a.room:
-        room(a.room, a.room_method, a.room_tol)
+        room(a.room, a.room_method, a.room_tol, a.room_source)

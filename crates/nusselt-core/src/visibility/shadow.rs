@@ -340,19 +340,21 @@ fn subtract_convex(q: Vec<[f64; 2]>, t: &[[f64; 2]], out: &mut Vec<Vec<[f64; 2]>
 /// back along the line, which area-based uses do not mind).
 fn clip_2d(v: &[[f64; 2]], u: [f64; 2], w: [f64; 2], left: bool, out: &mut Vec<[f64; 2]>) {
     out.clear();
-    let m = v.len();
+    let Some(&last) = v.last() else { return };
     let sign = if left { 1.0 } else { -1.0 };
     let d = |x: [f64; 2]| sign * orient(u, w, x);
-    for i in 0..m {
-        let (x, y) = (v[i], v[(i + 1) % m]);
-        let (dx, dy) = (d(x), d(y));
-        if dx >= 0.0 {
-            out.push(x);
-        }
+    // each vertex's side is computed once: edge (x, y) for x = previous vertex
+    let (mut x, mut dx) = (last, d(last));
+    for &y in v {
+        let dy = d(y);
         if (dx > 0.0 && dy < 0.0) || (dx < 0.0 && dy > 0.0) {
             let t = dx / (dx - dy);
             out.push([x[0] + t * (y[0] - x[0]), x[1] + t * (y[1] - x[1])]);
         }
+        if dy >= 0.0 {
+            out.push(y);
+        }
+        (x, dx) = (y, dy);
     }
 }
 

@@ -1,0 +1,65 @@
+//! Accuracy against time of the obstructed-pair source rules of `clipping` on random obstructed
+//! pairs of the box room of bench/obstructed.py (no Python):
+//!     cargo run --release -p nusselt-core --example obstructed_schemes -- N PAIRS
+//! Reference: the adaptive rule at tol 1e-10. Errors are relative to each pair's unobstructed
+//! G = A_i F_ij (what `tol` bounds).
+use nusselt_core::method::{self, Facing, Method};
+use nusselt_core::obstructed::{self, Context, VisMethod, VisOptions};
+use nusselt_core::visibility::{Bvh, Visibility};
+use std::time::Instant;
+
+#[path = "common/room.rs"]
+mod room;
+
+fn main() {
+    let args: Vec<String> = std::env::args().collect();
+    let n: usize = args.get(1).and_then(|s| s.parse().ok()).unwrap_or(9);
+    let want: usize = args.get(2).and_then(|s| s.parse().ok()).unwrap_or(300);
+    let polys = room::room(n);
+    let bvh = Bvh::new(&polys).unwrap();
+    let ctx = Context { polygons: &polys, vis: &bvh, rules: None };
+    // random pairs with a candidate blocker in between (xorshift, fixed seed)
+    let (mut pairs, mut cand, np) = (Vec::new(), Vec::new(), polys.len());
+    let mut s = 0x9e37_79b9_7f4a_7c15u64;
+    while pairs.len() < want {
+        s ^= s << 13;
+        s ^= s >> 7;
+        s ^= s << 17;
+        let (i, j) = ((s % np as u64) as usize, ((s >> 20) % np as u64) as usize);
+        if i == j || method::facing(&polys[i], &polys[j]) == Facing::None {
+            continue;
+        }
+        bvh.candidates_between(&polys[i], &polys[j], &[i as u32, j as u32], &mut cand);
+        if !cand.is_empty() {
+            pairs.push((i, j));
+        }
+    }
+    let o = VisOptions { tol: 1e-10, exact_tol: 1e-12, ..Default::default() };
+    let t0 = Instant::now();
+    let refs: Vec<f64> = pairs.iter().map(|&(i, j)| obstructed::pair(&ctx, i, j, VisMethod::Clipping, &o).unwrap().value).collect();
+    let free: Vec<f64> = pairs
+        .iter()
+        .map(|&(i, j)| method::area_factor(&polys[i], &polys[j], Method::Analytic, &Default::default(), None).unwrap())
+        .collect();
+    let hidden = refs.iter().zip(&free).map(|(r, f)| 1.0 - r / f).sum::<f64>() / pairs.len() as f64;
+    println!("{np} patches, {} obstructed pairs (mean hidden fraction {hidden:.3}), reference in {:.1} s", pairs.len(), t0.elapsed().as_secs_f64());
+    let mut schemes: Vec<(String, VisOptions)> = Vec::new();
+    for k in 1..=4 {
+        schemes.push((format!("source {k}x{k}"), VisOptions { clip_source: Some(k), ..o.clone() }));
+    }
+    for t in [1e-2, 1e-3, 1e-4, 1e-5, 1e-6, 1e-8] {
+        schemes.push((format!("adaptive tol {t:e}"), VisOptions { tol: t, ..o.clone() }));
+    }
+    for (name, q) in schemes {
+        let t0 = Instant::now();
+        let mut errs: Vec<f64> = pairs
+            .iter()
+            .zip(refs.iter().zip(&free))
+            .map(|(&(i, j), (r, f))| (obstructed::pair(&ctx, i, j, VisMethod::Clipping, &q).unwrap().value - r).abs() / f)
+            .collect();
+        let us = t0.elapsed().as_secs_f64() / pairs.len() as f64 * 1e6;
+        errs.sort_by(|a, b| a.total_cmp(b));
+        let at = |p: usize| errs[(errs.len() * p / 100).min(errs.len() - 1)];
+        println!("{name:22} {us:9.1} us/pair   error/free: median {:.1e} p90 {:.1e} p99 {:.1e} max {:.1e}", at(50), at(90), at(99), at(100));
+    }
+}
