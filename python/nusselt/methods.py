@@ -149,7 +149,8 @@ METHODS: dict[str, Method] = {
             "tol": Option(float, 1e-7, "accuracy target on F, relative to the pair's unobstructed F (so also absolute)",
                           1e-14, 0.1),
             "max_depth": Option(int, 12, "deepest refinement of the source", 1, 16),
-            "source": Option(object, "adaptive", "'adaptive', 'centre', or k for a fixed k x k Gauss rule"),
+            "source": Option(object, "adaptive", "'adaptive' (to tol), or 'centre' / k for a fixed k x k Gauss "
+                             "rule whose visible fraction of the point F scales the exact unobstructed F"),
         },
     ),
     "hemicube": Method(
