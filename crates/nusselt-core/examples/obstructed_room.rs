@@ -4,6 +4,8 @@
 //!   cargo run --release --example obstructed_room -- rows N [TOL] [STRIDE]
 //!       time pair_rows over every STRIDE-th row (all receivers j > i); with DUMP=path,
 //!       write "i j G_ij A_i" lines there
+//!   cargo run --release --example obstructed_room -- cands N
+//!       time the candidate-blocker query of every facing pair
 //!   cargo run --release --example obstructed_room -- points N
 //!       time single evaluations of the shadowed point F on obstructed pairs
 use nusselt_core::obstructed::{VisMethod, VisOptions};
@@ -90,6 +92,27 @@ fn main() {
             let dt = t0.elapsed().as_secs_f64();
             println!("{evals} evals ({nonzero} shadowed), {:.2} us/eval (incl. candidate queries), checksum {total:.12e}", dt / evals as f64 * 1e6);
         }
+        "cands" => {
+            // the candidate-blocker query of every facing pair (what every obstructed scene pays)
+            let bvh = Bvh::new(&polys).unwrap();
+            let t0 = Instant::now();
+            let (mut pairs, mut blocked, mut cand, mut check) = (0usize, 0usize, Vec::new(), 0u64);
+            for i in 0..polys.len() {
+                for j in i + 1..polys.len() {
+                    if nusselt_core::method::facing(&polys[i], &polys[j]) == nusselt_core::method::Facing::None {
+                        continue;
+                    }
+                    pairs += 1;
+                    bvh.candidates_between(&polys[i], &polys[j], &[i as u32, j as u32], &mut cand);
+                    blocked += !cand.is_empty() as usize;
+                    for &c in &cand {
+                        check = check.wrapping_mul(31).wrapping_add(c as u64 + 1);
+                    }
+                }
+            }
+            let dt = t0.elapsed().as_secs_f64();
+            println!("{pairs} facing pairs, {blocked} with candidates (checksum {check:x}): {dt:.2} s one thread ({:.2} us/pair)", dt / pairs as f64 * 1e6);
+        }
         "pair" => {
             let i: usize = args[3].parse().unwrap();
             let j: usize = args[4].parse().unwrap();
@@ -101,6 +124,6 @@ fn main() {
             let e = nusselt_core::scene::pair_view_factor(polys[i].clone(), polys[j].clone(), obs, AnyMethod::Visible(VisMethod::Auto), &o).unwrap();
             println!("F {:.15e} in {:.3} s", e.value, t0.elapsed().as_secs_f64());
         }
-        _ => panic!("mode rows|points|pair"),
+        _ => panic!("mode rows|cands|points|pair"),
     }
 }

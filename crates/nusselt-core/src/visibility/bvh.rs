@@ -569,32 +569,41 @@ fn edge_planes(e0: Vec3, e1: Vec3, n: Vec3, points: &[Vec3], tol: f64, max_abs: 
     let e = edge / len;
     let m1 = e.cross(n);
     let m2 = n;
-    let mut reach: f64 = 0.0;
-    let (mut lo, mut hi) = (0.0f64, 0.0f64); // angles relative to -m1; the polygon is at 0
-    let (mut dir_lo, mut dir_hi) = (-m1, -m1);
+    let mut reach_sq: f64 = 0.0;
+    // Directions as (u, v) = -(x, y): the polygon lies at angle 0. Angles are compared by a
+    // pseudo-angle that grows monotonically with the angle in (-pi, pi] (no atan2 per point).
+    let pseudo = |u: f64, v: f64| {
+        let d = 1.0 - u / (u.abs() + v.abs());
+        if v >= 0.0 { d } else { -d }
+    };
+    let (mut lo, mut hi) = (0.0f64, 0.0f64);
+    let (mut uv_lo, mut uv_hi) = ((1.0, 0.0), (1.0, 0.0));
     for p in points {
         let r = p - e0;
-        let x = r.dot(m1);
-        let y = r.dot(m2);
-        let rho = x.hypot(y);
-        reach = reach.max(r.length());
-        if rho <= 1e-12 * len.max(r.length()) {
+        let (x, y) = (r.dot(m1), r.dot(m2));
+        let r_sq = r.length_squared();
+        reach_sq = reach_sq.max(r_sq);
+        if x * x + y * y <= 1e-24 * (len * len).max(r_sq) {
             continue;
         }
-        // Angle relative to -m1: rotate (x, y) by pi.
-        let ang = (-y).atan2(-x);
+        let ang = pseudo(-x, -y);
         if ang < lo {
             lo = ang;
-            dir_lo = (x * m1 + y * m2) / rho;
+            uv_lo = (-x, -y);
         }
         if ang > hi {
             hi = ang;
-            dir_hi = (x * m1 + y * m2) / rho;
+            uv_hi = (-x, -y);
         }
     }
-    if hi - lo >= std::f64::consts::PI {
+    // The span hi - lo (in [0, 2 pi)) reaches a half-turn when the turn from the lo direction
+    // to the hi direction is not counter-clockwise.
+    if hi > lo && uv_lo.0 * uv_hi.1 - uv_lo.1 * uv_hi.0 <= 0.0 {
         return; // the points surround the edge line: no supporting plane through it
     }
+    let reach = reach_sq.sqrt();
+    let dir_lo = -(uv_lo.0 * m1 + uv_lo.1 * m2);
+    let dir_hi = -(uv_hi.0 * m1 + uv_hi.1 * m2);
     // The edge direction's rounding (~ eps max|x| / |edge|) tilts the plane; at distance
     // `reach` that moves it by about reach times that.
     let tol_p = tol + 16.0 * f64::EPSILON * max_abs * reach / len;
