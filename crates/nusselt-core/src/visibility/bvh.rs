@@ -471,6 +471,9 @@ pub(crate) struct Shaft {
     lo: Vec3,
     hi: Vec3,
     planes: Vec<(Vec3, f64, f64)>,
+    /// the planes in blocks of four for the box test: normal components, their absolute
+    /// values and d - tol (padding: 0 normal, limit 1, which never culls)
+    blocks: Vec<[[f64; 4]; 7]>,
     points: Vec<Vec3>,
     tol: f64,
 }
@@ -514,7 +517,19 @@ impl Shaft {
             }
         }
         points.shrink_to_fit();
-        Shaft { lo: lo_t, hi: hi_t, planes, points, tol }
+        let blocks = planes
+            .chunks(4)
+            .map(|c| {
+                let mut b = [[0.0; 4]; 7];
+                b[6] = [1.0; 4];
+                for (k, &(n, d, t)) in c.iter().enumerate() {
+                    let a = n.abs();
+                    (b[0][k], b[1][k], b[2][k], b[3][k], b[4][k], b[5][k], b[6][k]) = (n.x, n.y, n.z, a.x, a.y, a.z, d - t);
+                }
+                b
+            })
+            .collect();
+        Shaft { lo: lo_t, hi: hi_t, planes, blocks, points, tol }
     }
 
     /// False only if the box lies outside the hull's box or outside one supporting plane.
@@ -526,7 +541,15 @@ impl Shaft {
         }
         let c = 0.5 * (lo + hi);
         let h = 0.5 * (hi - lo);
-        self.planes.iter().all(|&(n, d, tol)| n.dot(c) - n.abs().dot(h) < d - tol)
+        // the box's nearest point to each plane must lie inside it, four planes at a time
+        self.blocks.iter().all(|b| {
+            let mut inside = true;
+            for k in 0..4 {
+                let near = b[0][k] * c.x + b[1][k] * c.y + b[2][k] * c.z - (b[3][k] * h.x + b[4][k] * h.y + b[5][k] * h.z);
+                inside &= near < b[6][k];
+            }
+            inside
+        })
     }
 
     /// False only if the triangle is separated from the hull (up to the tolerance).
