@@ -727,8 +727,8 @@ pub const MAX_SOURCE_EVALS: usize = 60_000;
 /// Integral of f over the source polygon by globally adaptive triangle subdivision: every
 /// leaf triangle carries its value by the rule of [`source_rule`] (degree 5, or 2 for loose
 /// targets), the sum over its four children and the difference of the two as error
-/// estimate; f is given only the blockers that meet the leaf's shaft. The leaf with the largest estimate is split
-/// until the estimates add up to `goal` (an error bound on G = A_i F), the depth limit or the
+/// estimate (f is given only the blockers that meet the leaf's shaft). The leaf with the
+/// largest estimate is split until the estimates add up to `goal` (an error bound on G = A_i F), the depth limit or the
 /// evaluation budget is reached. The visible-region F is continuous but has kinks along
 /// shadow lines: a global criterion spends the refinement along those lines only as far
 /// as the total error needs it (a local criterion would refine them without end).
