@@ -160,9 +160,10 @@ def test_obstructed_tol_is_met_per_pair(tol):
     # Loose targets use a cheaper source rule (degree 2 from tol 1e-4 up): each pair must
     # still be within tol of its unobstructed G, against a 1e-10 reference.
     polys, _ = room_with_crate(3)
-    for i, j in [(1, 10), (10, 45), (0, 35), (4, 25), (22, 31), (22, 47), (3, 40), (13, 30)]:
+    for i, j in [(1, 10), (10, 45), (0, 35), (4, 25), (22, 31), (22, 47)]:
         others = [p for k, p in enumerate(polys) if k not in (i, j)]
         ref = nusselt.view_factor(polys[i], polys[j], obstacles=others, method="clipping", tol=1e-10)
         f = nusselt.view_factor(polys[i], polys[j], obstacles=others, obstructed_tol=tol)
         free = nusselt.view_factor(polys[i], polys[j])
+        assert ref < 0.99 * free, (i, j)  # the crate hides part of every one of these pairs
         assert abs(f - ref) <= tol * free, (i, j)

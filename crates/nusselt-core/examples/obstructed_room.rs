@@ -8,7 +8,7 @@
 //!       time the candidate-blocker query of every facing pair
 //!   cargo run --release --example obstructed_room -- points N
 //!       time single evaluations of the shadowed point F on obstructed pairs
-use nusselt_core::obstructed::{VisMethod, VisOptions};
+use nusselt_core::obstructed::VisMethod;
 use nusselt_core::scene::{AllOptions, AnyMethod, Scene};
 use nusselt_core::visibility::shadow::point_shadowed_view_factor;
 use nusselt_core::visibility::{Bvh, Visibility};
@@ -51,8 +51,6 @@ fn main() {
         }
         "points" => {
             let bvh = Bvh::new(&polys).unwrap();
-            let o = VisOptions::default();
-            let _ = o;
             let mut evals = 0usize;
             let mut nonzero = 0usize;
             let mut total = 0.0f64;

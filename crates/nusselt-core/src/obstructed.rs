@@ -16,7 +16,7 @@ use crate::geometry::{clip_to_halfspace, Polygon, Vec3};
 use crate::method::{self, Method, RuleCache};
 use crate::quadrature::AreaRule;
 use crate::sampling::{hash_seed, sobol4, PolygonSampler};
-use crate::visibility::shadow::{point_shadowed_view_factor, point_visible_view_factor};
+use crate::visibility::shadow::{point_free_and_shadowed, point_shadowed_view_factor, point_visible_view_factor};
 use crate::visibility::Visibility;
 use std::f64::consts::PI;
 
@@ -221,13 +221,10 @@ pub fn pair(ctx: &Context, i: usize, j: usize, m: VisMethod, o: &VisOptions) -> 
             let mut g = 0.0;
             let points = match o.source_points {
                 Some(k) => source_points(sa, k),
-                None => split_at_kinks(sa, b, &blockers)
-                    .iter()
-                    .flat_map(|t| {
-                        let area = 0.5 * (t[1] - t[0]).cross(t[2] - t[0]).length();
-                        radon7().map(|(c, w)| (t[0] * c[0] + t[1] * c[1] + t[2] * c[2], area * w))
-                    })
-                    .collect(),
+                None => {
+                    let r7 = radon7();
+                    split_at_kinks(sa, b, &blockers).iter().flat_map(|t| rule_points(&r7, t)).collect()
+                }
             };
             for (x, w) in points {
                 let f = match &pieces {
@@ -262,8 +259,9 @@ pub fn pair(ctx: &Context, i: usize, j: usize, m: VisMethod, o: &VisOptions) -> 
                     let free = exact()?;
                     let (mut vis, mut all) = (0.0, 0.0);
                     for (x, w) in source_points(sa, k) {
-                        vis += w * point_visible_view_factor(x, a.normal(), b, &blockers);
-                        all += w * analytic::point_polygon(x, a.normal(), b.vertices());
+                        let (f_free, f_hidden) = point_free_and_shadowed(x, a.normal(), b, &blockers);
+                        vis += w * (f_free - f_hidden);
+                        all += w * f_free;
                     }
                     Estimate::exact(if all > 0.0 { (free * vis / all).clamp(0.0, free) } else { free })
                 }
@@ -435,6 +433,10 @@ fn centroid3(t: &[Vec3; 3]) -> Vec3 {
     (t[0] + t[1] + t[2]) / 3.0
 }
 
+fn area3(t: &[Vec3; 3]) -> f64 {
+    0.5 * (t[1] - t[0]).cross(t[2] - t[0]).length()
+}
+
 /// Uniform subdivision: sum over pieces of Lambert's exact F to the piece times the piece's
 /// visibility at its centre (Wallace et al.'s better leaf estimator, algorithms.md 6.1).
 fn uniform_point(x: Vec3, n: Vec3, pieces: &[[Vec3; 3]], visible: &dyn Fn(Vec3) -> bool) -> f64 {
@@ -498,9 +500,15 @@ fn radon7() -> [([f64; 3], f64); 7] {
     ]
 }
 
+/// A triangle rule (barycentric points, weights summing to 1) mapped onto `t`: points and
+/// weights summing to its area.
+fn rule_points<'r>(rule: &'r [([f64; 3], f64)], t: &[Vec3; 3]) -> impl Iterator<Item = (Vec3, f64)> + 'r {
+    let (t, area) = (*t, area3(t));
+    rule.iter().map(move |(b, w)| (t[0] * b[0] + t[1] * b[1] + t[2] * b[2], area * w))
+}
+
 fn rule_integral(rule: &[([f64; 3], f64)], t: &[Vec3; 3], f: &dyn Fn(Vec3) -> f64) -> f64 {
-    let area = 0.5 * (t[1] - t[0]).cross(t[2] - t[0]).length();
-    area * rule.iter().map(|(b, w)| w * f(t[0] * b[0] + t[1] * b[1] + t[2] * b[2])).sum::<f64>()
+    rule_points(rule, t).map(|(x, w)| w * f(x)).sum()
 }
 
 /// Relative targets from which the adaptive source integration computes a start piece's
@@ -620,7 +628,7 @@ fn fan_triangles(pieces: &[Vec<Vec3>], min_area: f64) -> Vec<[Vec3; 3]> {
         .iter()
         .filter(|p| p.len() >= 3)
         .flat_map(|p| (1..p.len() - 1).map(move |k| [p[0], p[k], p[k + 1]]))
-        .filter(|t| 0.5 * (t[1] - t[0]).cross(t[2] - t[0]).length() > min_area)
+        .filter(|t| area3(t) > min_area)
         .collect()
 }
 
@@ -728,8 +736,8 @@ pub const MAX_SOURCE_EVALS: usize = 60_000;
 /// leaf triangle carries its value by the rule of [`source_rule`] (degree 5, or 2 for loose
 /// targets), the sum over its four children and the difference of the two as error
 /// estimate (f is given only the blockers that meet the leaf's shaft). The leaf with the
-/// largest estimate is split until the estimates add up to `goal` (an error bound on G = A_i F), the depth limit or the
-/// evaluation budget is reached. The visible-region F is continuous but has kinks along
+/// largest estimate is split until the estimates add up to `goal` (an error bound on
+/// G = A_i F), the depth limit or the evaluation budget is reached. The visible-region F is continuous but has kinks along
 /// shadow lines: a global criterion spends the refinement along those lines only as far
 /// as the total error needs it (a local criterion would refine them without end).
 fn adaptive_over_source(
@@ -782,9 +790,10 @@ fn adaptive_over_source(
     };
     let rule = source_rule(o.tol);
     let evals = std::cell::Cell::new(0usize);
+    let pick = |active: &[usize]| active.iter().map(|&k| blockers[k]).collect::<Vec<&Polygon>>();
     // the leaf's children values and error estimate
     let refine = |l: &mut Leaf| {
-        let bl: Vec<&Polygon> = l.active.iter().map(|&k| blockers[k]).collect();
+        let bl = pick(&l.active);
         let (zero, lit) = (std::cell::Cell::new(false), std::cell::Cell::new(false));
         let g = |x: Vec3| {
             let v = f(x, &bl);
@@ -813,14 +822,13 @@ fn adaptive_over_source(
         if active.is_empty() {
             continue;
         }
-        let bl: Vec<&Polygon> = active.iter().map(|&k| blockers[k]).collect();
+        let bl = pick(&active);
         let whole = rule_integral(&rule, &t, &|x| f(x, &bl));
         evals.set(evals.get() + rule.len());
         let mut l = Leaf { t, whole, kids: None, err: 0.0, depth: 0, active };
         if coarse_start {
             // children only where needed (see COARSE_START_TOL)
-            let area = 0.5 * (t[1] - t[0]).cross(t[2] - t[0]).length();
-            l.err = 2.0 * (whole - area * f(centroid3(&t), &bl)).abs();
+            l.err = 2.0 * (whole - area3(&t) * f(centroid3(&t), &bl)).abs();
             evals.set(evals.get() + 1);
         } else {
             refine(&mut l);

@@ -470,9 +470,8 @@ impl Visibility for Bvh {
 pub(crate) struct Shaft {
     lo: Vec3,
     hi: Vec3,
-    planes: Vec<(Vec3, f64, f64)>,
-    /// the planes in blocks of four for the box test: normal components, their absolute
-    /// values and d - tol (padding: 0 normal, limit 1, which never culls)
+    /// The supporting planes n . x <= d (tolerance t) in blocks of four, structure of arrays:
+    /// n.x, n.y, n.z, |n.x|, |n.y|, |n.z|, d - t (padding: 0 normal, limit 1, which never culls).
     blocks: Vec<[[f64; 4]; 7]>,
     points: Vec<Vec3>,
     tol: f64,
@@ -529,7 +528,7 @@ impl Shaft {
                 b
             })
             .collect();
-        Shaft { lo: lo_t, hi: hi_t, planes, blocks, points, tol }
+        Shaft { lo: lo_t, hi: hi_t, blocks, points, tol }
     }
 
     /// False only if the box lies outside the hull's box or outside one supporting plane.
@@ -560,9 +559,12 @@ impl Shaft {
         {
             return false;
         }
-        for &(n, d, tol) in &self.planes {
-            if v.iter().all(|x| n.dot(*x) >= d - tol) {
-                return false;
+        for b in &self.blocks {
+            for k in 0..4 {
+                let beyond = |x: &Vec3| b[0][k] * x.x + b[1][k] * x.y + b[2][k] * x.z >= b[6][k];
+                if v.iter().all(beyond) {
+                    return false;
+                }
             }
         }
         // The triangle's plane separates when every hull vertex is on one side (or on it).

@@ -442,10 +442,26 @@ pub fn point_shadowed_view_factor(p: Vec3, n: Vec3, receiver: &Polygon, blockers
     }
     let n = n.normalize();
     let Some(cast) = cast(p, n, receiver, blockers) else { return 0.0 };
+    shadowed(p, n, &cast)
+}
+
+/// Lambert's F from p to the receiver without blockers (the part in front of p) and
+/// [`point_shadowed_view_factor`], from one projection of the blockers. NaN for non-finite
+/// p or n.
+pub fn point_free_and_shadowed(p: Vec3, n: Vec3, receiver: &Polygon, blockers: &[&Polygon]) -> (f64, f64) {
+    if !p.is_finite() || !n.is_finite() || n == Vec3::ZERO {
+        return (f64::NAN, f64::NAN);
+    }
+    let n = n.normalize();
+    let Some(cast) = cast(p, n, receiver, blockers) else { return (0.0, 0.0) };
+    (crate::analytic::point_contour(p, n, &cast.rec).max(0.0), shadowed(p, n, &cast))
+}
+
+fn shadowed(p: Vec3, n: Vec3, cast: &Cast) -> f64 {
     if cast.shadows.is_empty() {
         return 0.0;
     }
-    shadowed_convex(p, n, &cast).unwrap_or_else(|| shadowed_boolean(p, n, &cast))
+    shadowed_convex(p, n, cast).unwrap_or_else(|| shadowed_boolean(p, n, cast))
 }
 
 /// [`point_shadowed_view_factor`] by the general boolean: Lambert over the clipped receiver
