@@ -242,24 +242,23 @@ fn shadowed_convex(p: Vec3, n: Vec3, cast: &Cast) -> Option<f64> {
         return None;
     }
     // only the shadows reaching the receiver's box matter; each must be convex
-    let mut boxes: Vec<([f64; 2], [f64; 2])> = Vec::with_capacity(cast.shadows.len());
+    let mut shadows: Vec<Vec<[f64; 2]>> = Vec::with_capacity(cast.shadows.len());
     for s in &cast.shadows {
-        let b = bbox(s);
-        let hits = overlap(b, (rlo, rhi));
-        if hits && !is_convex(s) {
-            return None;
+        if overlap(bbox(s), (rlo, rhi)) {
+            if !is_convex(s) {
+                return None;
+            }
+            shadows.push(s.clone());
         }
-        boxes.push(if hits { b } else { ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]) });
     }
+    merge_adjacent(&mut shadows);
+    let boxes: Vec<([f64; 2], [f64; 2])> = shadows.iter().map(|s| bbox(s)).collect();
     let mut total = 0.0;
     let mut pieces: Vec<Vec<[f64; 2]>> = Vec::new();
     let mut split: Vec<Vec<[f64; 2]>> = Vec::new();
     let (mut a, mut b) = (Vec::new(), Vec::new());
     let mut piece3 = Vec::new();
-    for (k, s) in cast.shadows.iter().enumerate() {
-        if !overlap(boxes[k], (rlo, rhi)) {
-            continue;
-        }
+    for (k, s) in shadows.iter().enumerate() {
         // a shadow over the whole receiver hides all of it (exactly, whatever else is there)
         let covers = |e: usize| cast.rec2.iter().all(|x| orient(s[e], s[(e + 1) % s.len()], *x) >= 0.0);
         if (0..s.len()).all(covers) {
@@ -282,7 +281,7 @@ fn shadowed_convex(p: Vec3, n: Vec3, cast: &Cast) -> Option<f64> {
         pieces.push(a.clone());
         // minus the earlier shadows
         for l in 0..k {
-            let t = &cast.shadows[l];
+            let t = &shadows[l];
             if !overlap(boxes[l], boxes[k]) {
                 continue;
             }
@@ -302,6 +301,67 @@ fn shadowed_convex(p: Vec3, n: Vec3, cast: &Cast) -> Option<f64> {
         }
     }
     Some(total.max(0.0))
+}
+
+/// Joins shadows that share an edge (the same two points, in opposite directions: tiles of
+/// a meshed blocker cast such shadows, bit for bit) wherever the union is convex, so that a
+/// meshed face casts one shadow instead of one per tile: the same union with fewer pieces to
+/// clip, subtract and integrate. Vertices left on a straight line at a joint are dropped.
+fn merge_adjacent(shadows: &mut Vec<Vec<[f64; 2]>>) {
+    let mut boxes: Vec<_> = shadows.iter().map(|s| bbox(s)).collect();
+    // until no pair joins: a grown shadow may now share a whole edge with one it did not before
+    'scan: loop {
+        for a in 0..shadows.len() {
+            for b in a + 1..shadows.len() {
+                if !overlap(boxes[a], boxes[b]) {
+                    continue;
+                }
+                if let Some(u) = join(&shadows[a], &shadows[b]) {
+                    boxes[a] = bbox(&u);
+                    shadows[a] = u;
+                    shadows.swap_remove(b);
+                    boxes.swap_remove(b);
+                    continue 'scan;
+                }
+            }
+        }
+        return;
+    }
+}
+
+/// The union of the convex counter-clockwise polygons s and t if they share an edge and the
+/// union is convex, without the vertices left straight at the joint.
+fn join(s: &[[f64; 2]], t: &[[f64; 2]]) -> Option<Vec<[f64; 2]>> {
+    let (m, l) = (s.len(), t.len());
+    for i in 0..m {
+        let (u, v) = (s[i], s[(i + 1) % m]);
+        for j in 0..l {
+            if t[j] != v || t[(j + 1) % l] != u {
+                continue;
+            }
+            // s from v round to u, then t after u round to before v
+            let mut out: Vec<[f64; 2]> = (1..=m).map(|k| s[(i + k) % m]).collect();
+            out.extend((2..l).map(|k| t[(j + k) % l]));
+            if !is_convex(&out) {
+                return None;
+            }
+            // drop straight vertices (the joint's ends, when the union continues an edge)
+            let mut k = 0;
+            while k < out.len() && out.len() > 3 {
+                let n = out.len();
+                let (x, y, z) = (out[(k + n - 1) % n], out[k], out[(k + 1) % n]);
+                let (e, f) = ([y[0] - x[0], y[1] - x[1]], [z[0] - y[0], z[1] - y[1]]);
+                let cross = e[0] * f[1] - e[1] * f[0];
+                if cross.abs() <= 1e-14 * ((e[0] * e[0] + e[1] * e[1]) * (f[0] * f[0] + f[1] * f[1])).sqrt() {
+                    out.remove(k);
+                } else {
+                    k += 1;
+                }
+            }
+            return Some(out);
+        }
+    }
+    None
 }
 
 /// Appends to `out` the convex pieces of q \ t (q and t convex, counter-clockwise): for each
