@@ -12,6 +12,8 @@
 //! face the wrong way; reference-cases.md). Every tolerance is relative to the geometry.
 
 use crate::geometry::{clip_to_halfspace, newell_normal, tangent_frame, Polygon, Vec3};
+use std::borrow::Cow;
+use std::cell::RefCell;
 use i_overlay::core::fill_rule::FillRule;
 use i_overlay::core::overlay_rule::OverlayRule;
 use i_overlay::float::single::SingleFloatOverlay;
@@ -242,72 +244,114 @@ fn shadowed_convex(p: Vec3, n: Vec3, cast: &Cast) -> Option<f64> {
         return None;
     }
     // only the shadows reaching the receiver's box matter; each must be convex
-    let mut shadows: Vec<Vec<[f64; 2]>> = Vec::with_capacity(cast.shadows.len());
+    let mut shadows: Vec<Cow<'_, [[f64; 2]]>> = Vec::with_capacity(cast.shadows.len());
     for s in &cast.shadows {
         if overlap(bbox(s), (rlo, rhi)) {
             if !is_convex(s) {
                 return None;
             }
-            shadows.push(s.clone());
+            shadows.push(Cow::Borrowed(s));
         }
     }
     merge_adjacent(&mut shadows);
-    let boxes: Vec<([f64; 2], [f64; 2])> = shadows.iter().map(|s| bbox(s)).collect();
-    let mut total = 0.0;
-    let mut pieces: Vec<Vec<[f64; 2]>> = Vec::new();
-    let mut split: Vec<Vec<[f64; 2]>> = Vec::new();
-    let (mut a, mut b) = (Vec::new(), Vec::new());
-    let mut piece3 = Vec::new();
-    for (k, s) in shadows.iter().enumerate() {
-        // a shadow over the whole receiver hides all of it (exactly, whatever else is there)
-        let covers = |e: usize| cast.rec2.iter().all(|x| orient(s[e], s[(e + 1) % s.len()], *x) >= 0.0);
-        if (0..s.len()).all(covers) {
-            return Some(crate::analytic::point_contour(p, n, &cast.rec).max(0.0));
-        }
-        // receiver ∩ shadow k
-        a.clear();
-        a.extend_from_slice(&cast.rec2);
-        for e in 0..s.len() {
-            clip_2d(&a, s[e], s[(e + 1) % s.len()], true, &mut b);
-            std::mem::swap(&mut a, &mut b);
-            if a.len() < 3 {
-                break;
+    SCRATCH.with(|cell| {
+        let mut guard = cell.borrow_mut();
+        let Scratch { pieces, split, a, b, c, piece3, boxes } = &mut *guard;
+        boxes.clear();
+        boxes.extend(shadows.iter().map(|s| bbox(s)));
+        let mut total = 0.0;
+        for (k, s) in shadows.iter().enumerate() {
+            // a shadow over the whole receiver hides all of it (exactly, whatever else is there)
+            let covers = |e: usize| cast.rec2.iter().all(|x| orient(s[e], s[(e + 1) % s.len()], *x) >= 0.0);
+            if (0..s.len()).all(covers) {
+                return Some(crate::analytic::point_contour(p, n, &cast.rec).max(0.0));
             }
-        }
-        if a.len() < 3 {
-            continue;
-        }
-        pieces.clear();
-        pieces.push(a.clone());
-        // minus the earlier shadows
-        for l in 0..k {
-            let t = &shadows[l];
-            if !overlap(boxes[l], boxes[k]) {
+            // receiver ∩ shadow k
+            a.clear();
+            a.extend_from_slice(&cast.rec2);
+            for e in 0..s.len() {
+                clip_2d(a, s[e], s[(e + 1) % s.len()], true, b);
+                std::mem::swap(a, b);
+                if a.len() < 3 {
+                    break;
+                }
+            }
+            if a.len() < 3 {
                 continue;
             }
-            split.clear();
-            for q in pieces.drain(..) {
-                subtract_convex(q, t, &mut split, &mut a, &mut b);
+            pieces.clear();
+            pieces.push(a);
+            // minus the earlier shadows
+            for l in 0..k {
+                if !overlap(boxes[l], boxes[k]) {
+                    continue;
+                }
+                split.clear();
+                for i in 0..pieces.len() {
+                    subtract_convex(pieces.get(i), &shadows[l], split, a, b, c);
+                }
+                std::mem::swap(pieces, split);
+                if pieces.len() == 0 {
+                    break;
+                }
             }
-            std::mem::swap(&mut pieces, &mut split);
-            if pieces.is_empty() {
-                break;
+            for i in 0..pieces.len() {
+                piece3.clear();
+                piece3.extend(pieces.get(i).iter().map(|u| cast.frame.to3d(*u)));
+                total += crate::analytic::point_contour(p, n, piece3);
             }
         }
-        for q in &pieces {
-            piece3.clear();
-            piece3.extend(q.iter().map(|u| cast.frame.to3d(*u)));
-            total += crate::analytic::point_contour(p, n, &piece3);
-        }
+        Some(total.max(0.0))
+    })
+}
+
+/// Convex 2-D pieces laid end to end (piece i is `pts[ends[i - 1]..ends[i]]`), so that
+/// cutting and collecting them allocates nothing once the buffers have grown.
+#[derive(Default)]
+struct Pieces {
+    pts: Vec<[f64; 2]>,
+    ends: Vec<usize>,
+}
+
+impl Pieces {
+    fn clear(&mut self) {
+        self.pts.clear();
+        self.ends.clear();
     }
-    Some(total.max(0.0))
+    fn push(&mut self, q: &[[f64; 2]]) {
+        self.pts.extend_from_slice(q);
+        self.ends.push(self.pts.len());
+    }
+    fn len(&self) -> usize {
+        self.ends.len()
+    }
+    fn get(&self, i: usize) -> &[[f64; 2]] {
+        &self.pts[if i == 0 { 0 } else { self.ends[i - 1] }..self.ends[i]]
+    }
+}
+
+/// The convex path's buffers, one set per thread: it runs once per point evaluation, and
+/// fresh vectors there were a large part of an obstructed run's malloc and free.
+#[derive(Default)]
+struct Scratch {
+    pieces: Pieces,
+    split: Pieces,
+    a: Vec<[f64; 2]>,
+    b: Vec<[f64; 2]>,
+    c: Vec<[f64; 2]>,
+    piece3: Vec<Vec3>,
+    boxes: Vec<([f64; 2], [f64; 2])>,
+}
+
+thread_local! {
+    static SCRATCH: RefCell<Scratch> = RefCell::new(Scratch::default());
 }
 
 /// Joins shadows that share an edge (the same two points, in opposite directions: tiles of
 /// a meshed blocker cast such shadows, bit for bit) wherever the union is convex, so that a
 /// meshed face casts one shadow instead of one per tile: the same union with fewer pieces to
 /// clip, subtract and integrate. Vertices left on a straight line at a joint are dropped.
-fn merge_adjacent(shadows: &mut Vec<Vec<[f64; 2]>>) {
+fn merge_adjacent(shadows: &mut Vec<Cow<'_, [[f64; 2]]>>) {
     let mut boxes: Vec<_> = shadows.iter().map(|s| bbox(s)).collect();
     // until no pair joins: a grown shadow may now share a whole edge with one it did not before
     'scan: loop {
@@ -318,7 +362,7 @@ fn merge_adjacent(shadows: &mut Vec<Vec<[f64; 2]>>) {
                 }
                 if let Some(u) = join(&shadows[a], &shadows[b]) {
                     boxes[a] = bbox(&u);
-                    shadows[a] = u;
+                    shadows[a] = Cow::Owned(u);
                     shadows.swap_remove(b);
                     boxes.swap_remove(b);
                     continue 'scan;
@@ -366,7 +410,8 @@ fn join(s: &[[f64; 2]], t: &[[f64; 2]]) -> Option<Vec<[f64; 2]>> {
 
 /// Appends to `out` the convex pieces of q \ t (q and t convex, counter-clockwise): for each
 /// edge of t in turn, the part of what is left outside it, then the rest is cut to its inside.
-fn subtract_convex(q: Vec<[f64; 2]>, t: &[[f64; 2]], out: &mut Vec<Vec<[f64; 2]>>, a: &mut Vec<[f64; 2]>, b: &mut Vec<[f64; 2]>) {
+/// `a`, `b`, `c`: scratch.
+fn subtract_convex(q: &[[f64; 2]], t: &[[f64; 2]], out: &mut Pieces, a: &mut Vec<[f64; 2]>, b: &mut Vec<[f64; 2]>, c: &mut Vec<[f64; 2]>) {
     // Separated by one of t's edges (the usual case for neighbouring shadows): q is untouched.
     let m = t.len();
     for e in 0..m {
@@ -376,18 +421,20 @@ fn subtract_convex(q: Vec<[f64; 2]>, t: &[[f64; 2]], out: &mut Vec<Vec<[f64; 2]>
             return;
         }
     }
-    let mut rest = q;
+    let rest = c;
+    rest.clear();
+    rest.extend_from_slice(q);
     for e in 0..m {
         let (u, v) = (t[e], t[(e + 1) % m]);
         if u == v {
             continue; // no direction (drop_close leaves none but a lone point)
         }
-        clip_2d(&rest, u, v, false, a);
+        clip_2d(rest, u, v, false, a);
         if a.len() >= 3 {
-            out.push(a.clone());
+            out.push(a);
         }
-        clip_2d(&rest, u, v, true, b);
-        std::mem::swap(&mut rest, b);
+        clip_2d(rest, u, v, true, b);
+        std::mem::swap(rest, b);
         if rest.len() < 3 {
             return;
         }
