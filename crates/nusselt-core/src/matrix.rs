@@ -253,12 +253,10 @@ pub fn mirror_upper(areas: &[f64], rows: &[UpperRow<'_>], with_std: bool) -> Res
             let r = &rows[b];
             let (up, m, a) = ((count[k] + lower[k]) as usize - base, r.cols.len(), areas[k]);
             ind[up..up + m].copy_from_slice(r.cols);
-            for (d, &g) in dat[up..up + m].iter_mut().zip(r.g) {
-                *d = g / a;
-            }
+            divide_into(&mut dat[up..up + m], r.g, a);
             if with_std {
                 match r.std {
-                    Some(s) => sd[up..up + m].iter_mut().zip(s).for_each(|(d, &v)| *d = v / a),
+                    Some(s) => divide_into(&mut sd[up..up + m], s, a),
                     None => sd[up..up + m].fill(0.0),
                 }
             }
@@ -305,13 +303,9 @@ pub fn mirror_upper(areas: &[f64], rows: &[UpperRow<'_>], with_std: bool) -> Res
                     }
                     let run = j * TILE..j * TILE + m;
                     ind[at..at + m].copy_from_slice(&buf_k[run.clone()]);
-                    for (d, &g) in dat[at..at + m].iter_mut().zip(&buf_g[run.clone()]) {
-                        *d = g / a;
-                    }
+                    divide_into(&mut dat[at..at + m], &buf_g[run.clone()], a);
                     if with_std {
-                        for (d, &v) in sd[at..at + m].iter_mut().zip(&buf_s[run]) {
-                            *d = v / a;
-                        }
+                        divide_into(&mut sd[at..at + m], &buf_s[run], a);
                     }
                     next[t0 + j - lo] += m;
                 }
@@ -320,6 +314,13 @@ pub fn mirror_upper(areas: &[f64], rows: &[UpperRow<'_>], with_std: bool) -> Res
     });
     let std = with_std.then(|| Csr { indptr: count.clone(), indices: indices.clone(), data: sdata });
     Ok((Csr { indptr: count, indices, data }, std))
+}
+
+/// dst = src / a, entry by entry (G over the row's area: F).
+fn divide_into(dst: &mut [f64], src: &[f64], a: f64) {
+    for (d, &v) in dst.iter_mut().zip(src) {
+        *d = v / a;
+    }
 }
 
 #[cfg(test)]

@@ -243,22 +243,23 @@ fn shadowed_convex(p: Vec3, n: Vec3, cast: &Cast) -> Option<f64> {
     if !is_convex(&cast.rec2) {
         return None;
     }
-    // only the shadows reaching the receiver's box matter; each must be convex
-    let mut shadows: Vec<Cow<'_, [[f64; 2]]>> = Vec::with_capacity(cast.shadows.len());
-    for s in &cast.shadows {
-        if overlap(bbox(s), (rlo, rhi)) {
-            if !is_convex(s) {
-                return None;
-            }
-            shadows.push(Cow::Borrowed(s));
-        }
-    }
-    merge_adjacent(&mut shadows);
     SCRATCH.with(|cell| {
         let mut guard = cell.borrow_mut();
         let Scratch { pieces, split, a, b, c, piece3, boxes } = &mut *guard;
+        // only the shadows reaching the receiver's box matter; each must be convex
+        let mut shadows: Vec<Cow<'_, [[f64; 2]]>> = Vec::with_capacity(cast.shadows.len());
         boxes.clear();
-        boxes.extend(shadows.iter().map(|s| bbox(s)));
+        for s in &cast.shadows {
+            let bb = bbox(s);
+            if overlap(bb, (rlo, rhi)) {
+                if !is_convex(s) {
+                    return None;
+                }
+                shadows.push(Cow::Borrowed(s));
+                boxes.push(bb);
+            }
+        }
+        merge_adjacent(&mut shadows, boxes);
         let mut total = 0.0;
         for (k, s) in shadows.iter().enumerate() {
             // a shadow over the whole receiver hides all of it (exactly, whatever else is there)
@@ -351,8 +352,8 @@ thread_local! {
 /// a meshed blocker cast such shadows, bit for bit) wherever the union is convex, so that a
 /// meshed face casts one shadow instead of one per tile: the same union with fewer pieces to
 /// clip, subtract and integrate. Vertices left on a straight line at a joint are dropped.
-fn merge_adjacent(shadows: &mut Vec<Cow<'_, [[f64; 2]]>>) {
-    let mut boxes: Vec<_> = shadows.iter().map(|s| bbox(s)).collect();
+/// `boxes` holds each shadow's bounding box and is kept in step.
+fn merge_adjacent(shadows: &mut Vec<Cow<'_, [[f64; 2]]>>, boxes: &mut Vec<([f64; 2], [f64; 2])>) {
     // until no pair joins: a grown shadow may now share a whole edge with one it did not before
     'scan: loop {
         for a in 0..shadows.len() {
@@ -393,10 +394,8 @@ fn join(s: &[[f64; 2]], t: &[[f64; 2]]) -> Option<Vec<[f64; 2]>> {
             let mut k = 0;
             while k < out.len() && out.len() > 3 {
                 let n = out.len();
-                let (x, y, z) = (out[(k + n - 1) % n], out[k], out[(k + 1) % n]);
-                let (e, f) = ([y[0] - x[0], y[1] - x[1]], [z[0] - y[0], z[1] - y[1]]);
-                let cross = e[0] * f[1] - e[1] * f[0];
-                if cross.abs() <= 1e-14 * ((e[0] * e[0] + e[1] * e[1]) * (f[0] * f[0] + f[1] * f[1])).sqrt() {
+                let (cross, scale) = turn(out[(k + n - 1) % n], out[k], out[(k + 1) % n]);
+                if cross.abs() <= 1e-14 * scale {
                     out.remove(k);
                 } else {
                     k += 1;
@@ -476,11 +475,16 @@ fn orient(u: [f64; 2], w: [f64; 2], x: [f64; 2]) -> f64 {
 fn is_convex(v: &[[f64; 2]]) -> bool {
     let m = v.len();
     (0..m).all(|i| {
-        let (a, b, c) = (v[i], v[(i + 1) % m], v[(i + 2) % m]);
-        let (e, f) = ([b[0] - a[0], b[1] - a[1]], [c[0] - b[0], c[1] - b[1]]);
-        let cross = e[0] * f[1] - e[1] * f[0];
-        cross >= -1e-12 * ((e[0] * e[0] + e[1] * e[1]) * (f[0] * f[0] + f[1] * f[1])).sqrt()
+        let (cross, scale) = turn(v[i], v[(i + 1) % m], v[(i + 2) % m]);
+        cross >= -1e-12 * scale
     })
+}
+
+/// The turn at b on the path a -> b -> c: the cross product of the two edges (positive to the
+/// left) and the product of their lengths, its scale.
+fn turn(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> (f64, f64) {
+    let (e, f) = ([b[0] - a[0], b[1] - a[1]], [c[0] - b[0], c[1] - b[1]]);
+    (e[0] * f[1] - e[1] * f[0], ((e[0] * e[0] + e[1] * e[1]) * (f[0] * f[0] + f[1] * f[1])).sqrt())
 }
 
 /// Removes vertices at rounding distance from their predecessor, as clipping leaves when a

@@ -451,20 +451,23 @@ fn edge_adjacent_shadows_join_where_the_union_is_convex() {
     let sq = |x: f64, y: f64| vec![[x, y], [x + 1.0, y], [x + 1.0, y + 1.0], [x, y + 1.0]];
     // a 3 x 3 grid of tiles: one square with its four corners only
     let mut grid: Vec<Cow<[[f64; 2]]>> = (0..9).map(|k| Cow::Owned(sq((k % 3) as f64, (k / 3) as f64))).collect();
-    merge_adjacent(&mut grid);
+    let mut boxes = grid.iter().map(|s| bbox(s)).collect();
+    merge_adjacent(&mut grid, &mut boxes);
     assert_eq!(grid.len(), 1);
     let mut corners = grid[0].to_vec();
     corners.sort_by(|a, b| a.partial_cmp(b).unwrap());
     assert_eq!(corners, vec![[0.0, 0.0], [0.0, 3.0], [3.0, 0.0], [3.0, 3.0]]);
     // an L of three tiles: its union is not convex, so two shadows remain (same total area)
     let mut ell: Vec<Cow<[[f64; 2]]>> = vec![sq(0.0, 0.0).into(), sq(1.0, 0.0).into(), sq(0.0, 1.0).into()];
-    merge_adjacent(&mut ell);
+    let mut boxes = ell.iter().map(|s| bbox(s)).collect();
+    merge_adjacent(&mut ell, &mut boxes);
     assert_eq!(ell.len(), 2);
     assert!(ell.iter().all(|s| is_convex(s)));
     assert_eq!(ell.iter().map(|s| signed_area(s)).sum::<f64>(), 3.0);
     // a shared point or a partly shared edge (T-junction) is no joint
     let mut apart: Vec<Cow<[[f64; 2]]>> = vec![sq(0.0, 0.0).into(), sq(1.0, 1.0).into(), vec![[1.0, -0.5], [2.0, -0.5], [2.0, 0.5], [1.0, 0.5]].into()];
-    merge_adjacent(&mut apart);
+    let mut boxes = apart.iter().map(|s| bbox(s)).collect();
+    merge_adjacent(&mut apart, &mut boxes);
     assert_eq!(apart.len(), 3);
     // shadows of a meshed blocker in the convex path: the same F as the boolean
     let f = floor();
