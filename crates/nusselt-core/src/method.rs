@@ -2,15 +2,15 @@
 //!
 //! `auto` picks per pair, from the pair's relative separation, the cheapest rule whose
 //! calibrated relative error stays below `tol` ([`quadrature::FarPlan`]): a Gauss area rule
-//! or the second-moment rule ([`crate::moments`]) when the polygons are far apart compared
-//! with their size (the kernel is smooth there), the exact closed form when the pair is close,
+//! or a moment rule ([`crate::moments`]: second order, or fourth order for pairs of
+//! parallelograms) when the polygons are far apart compared with their size (the kernel is smooth there), the exact closed form when the pair is close,
 //! touching or straddles a plane.
 
 use crate::analytic;
 use crate::contour;
 use crate::error::{Error, Result};
 use crate::geometry::{Polygon, Vec3};
-use crate::moments::{moment_pair, Moments};
+use crate::moments::{moment4_pair, moment_pair, Moments};
 use crate::quadrature::{self, AreaRule, FarPlan, FarRule, PackedRule};
 use std::sync::OnceLock;
 
@@ -185,6 +185,10 @@ pub fn full_facing_pair(a: &Polygon, b: &Polygon, rule: FarRule, cache: Option<(
         FarRule::Moment => match cache {
             Some((c, ia, ib)) => moment_pair(c.moments(ia, a), c.moments(ib, b)),
             None => moment_pair(&Moments::new(a), &Moments::new(b)),
+        },
+        FarRule::Moment4 => match cache {
+            Some((c, ia, ib)) => moment4_pair(c.moments(ia, a), c.moments(ib, b)),
+            None => moment4_pair(&Moments::new(a), &Moments::new(b)),
         },
         FarRule::Gauss(_) | FarRule::Exact => analytic::polygon_pair(a, b),
     }

@@ -10,7 +10,7 @@
 use crate::error::{Error, Result};
 use crate::geometry::{Polygon, Vec3};
 use crate::method::{self, Facing, Options, RuleCache};
-use crate::moments::{moment_formula, Moments};
+use crate::moments::{moment_rule_formula, Moments};
 use crate::quadrature::FarPlan;
 use crate::matrix::{split_lengths, PairBlock};
 use rayon::prelude::*;
@@ -25,6 +25,9 @@ struct Patches {
     area: Vec<f64>,
     /// Central second moments per unit area: xx, xy, xz, yy, yz, zz.
     m: [Vec<f64>; 6],
+    /// Edge vectors of a quad (x, y, z of the first, then of the second), for the
+    /// fourth-order moment rule on regular quads.
+    e: [Vec<f64>; 6],
     /// Largest distance of a vertex from the polygon's own plane (planarity tolerance).
     thickness: Vec<f64>,
     /// A regular quad ([`crate::quadrature::is_regular_quad`]): tighter rule thresholds.
@@ -49,6 +52,7 @@ impl Patches {
             radius: col(&|q| q.1),
             area: col(&|q| q.0.area),
             m: std::array::from_fn(|e| col(&|q| q.0.m[e])),
+            e: std::array::from_fn(|e| col(&|q| q.0.edges[e / 3][e % 3])),
             thickness: col(&|q| q.2),
             regular: per.iter().map(|q| q.3).collect(),
             receiver: receiver[lo..].to_vec(),
@@ -61,6 +65,14 @@ impl Patches {
 
     fn normal(&self, k: usize) -> Vec3 {
         Vec3::new(self.n[0][k], self.n[1][k], self.n[2][k])
+    }
+
+    fn moments(&self, k: usize) -> [f64; 6] {
+        std::array::from_fn(|e| self.m[e][k])
+    }
+
+    fn edges(&self, k: usize) -> [Vec3; 2] {
+        [Vec3::new(self.e[0][k], self.e[1][k], self.e[2][k]), Vec3::new(self.e[3][k], self.e[4][k], self.e[5][k])]
     }
 }
 
@@ -76,7 +88,9 @@ fn coplanar(hab: f64, thickness: f64, radius: f64, na: Vec3, nb: Vec3, eps: f64)
 /// Pair classes of the first pass.
 const SKIP: u8 = 0;
 const MOMENT: u8 = 1;
-const OTHER: u8 = 2;
+/// The fourth-order moment rule, left by a pass that did not evaluate it.
+const MOMENT4: u8 = 2;
+const OTHER: u8 = 3;
 
 /// Columns per first-pass chunk (stack buffers).
 const CHUNK: usize = 256;
@@ -105,7 +119,7 @@ pub(crate) fn pair_block(
         return Err(Error::InvalidArgument(format!("row {bad} out of range for {n} polygons")));
     }
     let plan = FarPlan::new(opts.tol);
-    let windows = [plan.moment_from_sq(false), plan.moment_from_sq(true)];
+    let windows = [plan.moment_from_sq(false), plan.moment_from_sq(true), plan.moment4_from_sq()];
     // only the polygons these rows touch (j > min row) need their data
     let lo = rows.iter().copied().min().unwrap_or(n);
     let pt = Patches::new(polys, receiver, rules, lo);
@@ -127,18 +141,27 @@ pub(crate) fn pair_block(
             let mut len = 0;
             let ia = i - lo;
             let (ca, na, ra, area_a, reg_a) = (pt.centroid(ia), pt.normal(ia), pt.radius[ia], pt.area[ia], pt.regular[ia]);
-            let ma: [f64; 6] = std::array::from_fn(|e| pt.m[e][ia]);
+            let (ma, ea) = (pt.moments(ia), pt.edges(ia));
             let (mut class, mut value) = ([SKIP; CHUNK], [0.0f64; CHUNK]);
             let mut start = ia + 1;
+            // whether the previous chunk had enough fourth-order pairs to evaluate the rule
+            // for all columns (it costs about as much again as the rest of the pass)
+            let mut fourth = false;
             while start < n - lo {
                 let chunk = (n - lo - start).min(CHUNK);
                 let end = start + chunk;
-                first_pass(&pt, start..end, (ca, na, ra, area_a, reg_a, &ma), &windows, &mut class[..chunk], &mut value[..chunk]);
+                let fourths = first_pass(&pt, start..end, (ca, na, ra, area_a, reg_a, &ma, &ea), &windows, fourth, &mut class[..chunk], &mut value[..chunk]);
+                fourth = 8 * fourths > chunk;
                 for (e, (&cl, &g)) in class[..chunk].iter().zip(&value[..chunk]).enumerate() {
                     let j = start + e + lo;
                     let g = match cl {
                         SKIP => continue,
                         MOMENT => g,
+                        MOMENT4 => {
+                            let jb = j - lo;
+                            let (d, mb, eb) = (pt.centroid(jb) - ca, pt.moments(jb), pt.edges(jb));
+                            moment_rule_formula(d, na, pt.normal(jb), &ma, &mb, &ea, &eb, area_a * pt.area[jb], true)
+                        }
                         _ => other_pair(polys, rules, &plan, &pt, i, j, lo),
                     };
                     if g != 0.0 {
@@ -167,42 +190,48 @@ pub(crate) fn pair_block(
     Ok(PairBlock { indptr, cols, g: vals, std: None })
 }
 
-type Source<'a> = (Vec3, Vec3, f64, f64, bool, &'a [f64; 6]);
+type Source<'a> = (Vec3, Vec3, f64, f64, bool, &'a [f64; 6], &'a [Vec3; 2]);
 
-/// The branch-free pass: class and moment-rule value of the pairs (a, k), k in `ks`. Uses
-/// AVX2 when the CPU has it (checked once); without FMA, so both paths round alike.
-fn first_pass(pt: &Patches, ks: std::ops::Range<usize>, a: Source, windows: &[f64; 2], class: &mut [u8], value: &mut [f64]) {
+/// The branch-free pass: class and moment-rule value of the pairs (a, k), k in `ks`. With
+/// `fourth`, pairs for the fourth-order rule get its value and class MOMENT; without, they get
+/// class MOMENT4 for the caller to evaluate. Returns the number of such pairs. Uses AVX2
+/// when the CPU has it (checked once); without FMA, so both paths round alike.
+fn first_pass(pt: &Patches, ks: std::ops::Range<usize>, a: Source, windows: &[f64; 3], fourth: bool, class: &mut [u8], value: &mut [f64]) -> usize {
     #[cfg(target_arch = "x86_64")]
     {
         if std::arch::is_x86_feature_detected!("avx2") {
             // SAFETY: the CPU supports AVX2, checked just above.
-            return unsafe { first_pass_avx2(pt, ks, a, windows, class, value) };
+            return unsafe {
+                if fourth { first_pass_avx2::<true>(pt, ks, a, windows, class, value) } else { first_pass_avx2::<false>(pt, ks, a, windows, class, value) }
+            };
         }
     }
-    first_pass_body(pt, ks, a, windows, class, value)
+    if fourth { first_pass_body::<true>(pt, ks, a, windows, class, value) } else { first_pass_body::<false>(pt, ks, a, windows, class, value) }
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-unsafe fn first_pass_avx2(pt: &Patches, ks: std::ops::Range<usize>, a: Source, windows: &[f64; 2], class: &mut [u8], value: &mut [f64]) {
-    first_pass_body(pt, ks, a, windows, class, value)
+unsafe fn first_pass_avx2<const FOURTH: bool>(pt: &Patches, ks: std::ops::Range<usize>, a: Source, windows: &[f64; 3], class: &mut [u8], value: &mut [f64]) -> usize {
+    first_pass_body::<FOURTH>(pt, ks, a, windows, class, value)
 }
 
 #[inline(always)]
-fn first_pass_body(
+fn first_pass_body<const FOURTH: bool>(
     pt: &Patches,
     ks: std::ops::Range<usize>,
     a: Source,
-    windows: &[f64; 2],
+    windows: &[f64; 3],
     class: &mut [u8],
     value: &mut [f64],
-) {
-    let (ca, na, ra, area_a, reg_a, ma) = a;
+) -> usize {
+    let (ca, na, ra, area_a, reg_a, ma, ea) = a;
     let (cx, cy, cz) = (&pt.c[0][ks.clone()], &pt.c[1][ks.clone()], &pt.c[2][ks.clone()]);
     let (nx, ny, nz) = (&pt.n[0][ks.clone()], &pt.n[1][ks.clone()], &pt.n[2][ks.clone()]);
     let (rb, ab) = (&pt.radius[ks.clone()], &pt.area[ks.clone()]);
     let m: [&[f64]; 6] = std::array::from_fn(|e| &pt.m[e][ks.clone()]);
+    let edge: [&[f64]; 6] = std::array::from_fn(|e| &pt.e[e][ks.clone()]);
     let (reg, recv) = (&pt.regular[ks.clone()], &pt.receiver[ks.clone()]);
+    let mut fourths = 0;
     for k in 0..class.len() {
         let (dx, dy, dz) = (cx[k] - ca.x, cy[k] - ca.y, cz[k] - ca.z);
         let hab = na.x * dx + na.y * dy + na.z * dz;
@@ -213,12 +242,24 @@ fn first_pass_body(
         let none = (hab + rb[k] < -eps) | (hba + ra < -eps) | !recv[k];
         let (s, rs2) = (dx * dx + dy * dy + dz * dz, rs * rs);
         let from = if reg_a & reg[k] { windows[1] } else { windows[0] };
-        let moment = full & (s >= from * rs2);
+        let moment2 = full & (s >= from * rs2);
+        let moment4 = full & reg_a & reg[k] & (s >= windows[2] * rs2) & !moment2;
         let mb = [m[0][k], m[1][k], m[2][k], m[3][k], m[4][k], m[5][k]];
         let nb = Vec3::new(nx[k], ny[k], nz[k]);
-        value[k] = moment_formula(Vec3::new(dx, dy, dz), na, nb, ma, &mb, area_a * ab[k]);
-        class[k] = if none { SKIP } else if moment { MOMENT } else { OTHER };
+        let eb = [Vec3::new(edge[0][k], edge[1][k], edge[2][k]), Vec3::new(edge[3][k], edge[4][k], edge[5][k])];
+        value[k] = moment_rule_formula(Vec3::new(dx, dy, dz), na, nb, ma, &mb, ea, &eb, area_a * ab[k], FOURTH & moment4);
+        fourths += (!none & moment4) as usize;
+        class[k] = if none {
+            SKIP
+        } else if moment2 | (FOURTH & moment4) {
+            MOMENT
+        } else if moment4 {
+            MOMENT4
+        } else {
+            OTHER
+        };
     }
+    fourths
 }
 
 /// A pair the first pass left to the general path: [`method::auto_pair`], with the facing
