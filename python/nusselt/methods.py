@@ -71,7 +71,7 @@ METHODS: dict[str, Method] = {
     "auto": Method(
         "auto",
         "the fastest method that meets the accuracy targets for each pair: for pairs with nothing in "
-        "between, the second-moment rule or Gauss area quadrature of an order chosen by separation "
+        "between, a moment rule (fourth order for parallelograms) or Gauss area quadrature of an order chosen by separation "
         "(distant pairs) or the exact closed form (close, touching, piercing pairs); for pairs a polygon may block, the exact "
         "visible region (`clipping`) to `obstructed_tol`",
         obstructed=True,

@@ -6,7 +6,7 @@
 //! Criterion reports time per pair; pairs/s = 1 / time.
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
-use nusselt_core::moments::{moment_pair, Moments};
+use nusselt_core::moments::{moment4_pair, moment_pair, Moments};
 use glam::DVec3 as V;
 use nusselt_core::geometry::Polygon;
 use nusselt_core::method::{self, Method, Options};
@@ -82,6 +82,8 @@ fn pair_kernels(c: &mut Criterion) {
     let (ma, mb) = (Moments::new(a), Moments::new(b));
     g.throughput(Throughput::Elements(1));
     g.bench_function("moment rule", |bch| bch.iter(|| moment_pair(black_box(&ma), black_box(&mb))));
+    // fourth order (pairs of parallelograms; scalar here, vectorised in scene rows)
+    g.bench_function("moment rule order 4", |bch| bch.iter(|| moment4_pair(black_box(&ma), black_box(&mb))));
     g.finish();
 }
 
