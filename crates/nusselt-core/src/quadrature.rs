@@ -402,24 +402,26 @@ unsafe fn far_pair_avx2(a: &PackedRule, na: Vec3, b: &PackedRule, nb: Vec3) -> f
 
 #[inline(always)]
 fn far_pair_body(a: &PackedRule, na: Vec3, b: &PackedRule, nb: Vec3) -> f64 {
-    // b's points in chunks of CHUNK (a multiple of LANES): w_l * ca_l on the stack per chunk
-    const CHUNK: usize = 4 * LANES; // small: the buffer is zeroed per pair
+    // b's points in chunks of CHUNK lane groups: w_l * ca_l on the stack per chunk, written a
+    // lane group at a time (scalar stores read back as vectors stall store forwarding)
+    const CHUNK: usize = 4;
+    let (bx, by, bz, bwt) = (b.x.as_chunks::<LANES>().0, b.y.as_chunks::<LANES>().0, b.z.as_chunks::<LANES>().0, b.w.as_chunks::<LANES>().0);
     let mut total = 0.0;
-    let mut bw = [0.0f64; CHUNK];
-    for start in (0..b.x.len()).step_by(CHUNK) {
-        let m = (b.x.len() - start).min(CHUNK);
-        let (bx, by, bz) = (&b.x[start..start + m], &b.y[start..start + m], &b.z[start..start + m]);
-        for l in 0..m {
-            let ca = na.x * bx[l] + na.y * by[l] + na.z * bz[l] - a.offset;
-            bw[l] = b.w[start + l] * ca.max(0.0);
+    let mut bw = [[0.0f64; LANES]; CHUNK];
+    for start in (0..bx.len()).step_by(CHUNK) {
+        let m = (bx.len() - start).min(CHUNK);
+        let (cx, cy, cz) = (&bx[start..start + m], &by[start..start + m], &bz[start..start + m]);
+        for (g, out) in bw[..m].iter_mut().enumerate() {
+            for l in 0..LANES {
+                let ca = na.x * cx[g][l] + na.y * cy[g][l] + na.z * cz[g][l] - a.offset;
+                out[l] = bwt[start + g][l] * ca.max(0.0);
+            }
         }
-        // m is a multiple of LANES (padded rules): fixed-size lanes let the loop vectorise
-        let (cx, cy, cz, cw) = (bx.as_chunks::<LANES>().0, by.as_chunks::<LANES>().0, bz.as_chunks::<LANES>().0, bw[..m].as_chunks::<LANES>().0);
         for k in 0..a.len {
             let (xx, xy, xz) = (a.x[k], a.y[k], a.z[k]);
             let cb = (nb.x * xx + nb.y * xy + nb.z * xz - b.offset).max(0.0);
             let mut acc = [0.0f64; LANES];
-            for (((px, py), pz), pw) in cx.iter().zip(cy).zip(cz).zip(cw) {
+            for (((px, py), pz), pw) in cx.iter().zip(cy).zip(cz).zip(&bw[..m]) {
                 for l in 0..LANES {
                     let (dx, dy, dz) = (px[l] - xx, py[l] - xy, pz[l] - xz);
                     let r2 = dx * dx + dy * dy + dz * dz;
