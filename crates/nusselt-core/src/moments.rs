@@ -139,7 +139,6 @@ const MU22: f64 = 1.0 / 144.0;
 /// and for u = y' - x' the fourth moments add the two polygons' own and the six products of
 /// second moments, e.g. E[δ⁴] = Q_a(d⁴) + Q_b(d⁴) + 6 M_a(d, d) M_b(d, d).
 #[inline(always)]
-#[allow(clippy::too_many_arguments)]
 pub(crate) fn fourth_order_term(d: Vec3, na: Vec3, nb: Vec3, ea: &[Vec3; 2], eb: &[Vec3; 2], t: f64) -> f64 {
     let (p, q) = (na.dot(d), -nb.dot(d));
     // projections on the edges: d and n_b on a's, d and n_a on b's

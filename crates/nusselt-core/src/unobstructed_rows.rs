@@ -347,6 +347,39 @@ mod tests {
     }
 
     #[test]
+    fn fourth_order_pairs_equal_the_pair_kernel_in_both_paths() {
+        // a cube fine enough that many pairs take the fourth-order moment rule: chunks rich in
+        // them evaluate it in the vectorised pass, the others in the scalar one; either way
+        // each entry equals the pair kernel's
+        let polys = cube(10);
+        let n = polys.len();
+        let scene = Scene::new(polys.clone(), vec![true; n]).unwrap();
+        let rows: Vec<usize> = (0..n).collect();
+        for tol in [0.03, 1e-3] {
+            let plan = crate::quadrature::FarPlan::new(tol);
+            let mut o = AllOptions::default();
+            o.exact.tol = tol;
+            let out = scene.pair_rows(&rows, AnyMethod::Visible(VisMethod::Auto), &o, &AtomicBool::new(false)).unwrap();
+            let cache = RuleCache::new(n);
+            let opts = Options { tol, ..Options::default() };
+            let mut fourth = 0;
+            for (i, row) in out.iter().enumerate() {
+                for (j, gij, _) in row.iter() {
+                    let j = j as usize;
+                    let want = method::area_factor(&polys[i], &polys[j], Method::Auto, &opts, Some((&cache, i, j))).unwrap();
+                    assert!((gij - want).abs() <= 1e-13 * want.abs(), "tol {tol:e} ({i},{j}): {gij} vs {want}");
+                    let (a, b) = (&polys[i], &polys[j]);
+                    let (d, r) = (b.centroid() - a.centroid(), a.radius() + b.radius());
+                    if method::facing(a, b) == method::Facing::Full && plan.rule_sq(d.dot(d), r * r, true) == crate::quadrature::FarRule::Moment4 {
+                        fourth += 1;
+                    }
+                }
+            }
+            assert!(fourth > 5000, "tol {tol:e}: {fourth} fourth-order pairs");
+        }
+    }
+
+    #[test]
     fn scenes_with_something_in_between_are_recognised() {
         // the closed cube: nothing can block; a patch inside it or outside behind a wall can
         let inner = Polygon::new(vec![
