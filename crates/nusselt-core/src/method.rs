@@ -3,8 +3,8 @@
 //! `auto` picks per pair, from the pair's relative separation, the cheapest rule whose
 //! calibrated relative error stays below `tol` ([`quadrature::FarPlan`]): a Gauss area rule
 //! or a moment rule ([`crate::moments`]: second order, or fourth order for pairs of
-//! parallelograms) when the polygons are far apart compared with their size (the kernel is smooth there), the exact closed form when the pair is close,
-//! touching or straddles a plane.
+//! parallelograms) when the polygons are far apart compared with their size (the kernel is
+//! smooth there), the exact closed form when the pair is close, touching or straddles a plane.
 
 use crate::analytic;
 use crate::contour;
@@ -182,14 +182,13 @@ pub fn full_facing_pair(a: &Polygon, b: &Polygon, rule: FarRule, cache: Option<(
                 b.normal(),
             ),
         },
-        FarRule::Moment => match cache {
-            Some((c, ia, ib)) => moment_pair(c.moments(ia, a), c.moments(ib, b)),
-            None => moment_pair(&Moments::new(a), &Moments::new(b)),
-        },
-        FarRule::Moment4 => match cache {
-            Some((c, ia, ib)) => moment4_pair(c.moments(ia, a), c.moments(ib, b)),
-            None => moment4_pair(&Moments::new(a), &Moments::new(b)),
-        },
+        FarRule::Moment | FarRule::Moment4 => {
+            let pair = if rule == FarRule::Moment { moment_pair } else { moment4_pair };
+            match cache {
+                Some((c, ia, ib)) => pair(c.moments(ia, a), c.moments(ib, b)),
+                None => pair(&Moments::new(a), &Moments::new(b)),
+            }
+        }
         FarRule::Gauss(_) | FarRule::Exact => analytic::polygon_pair(a, b),
     }
 }

@@ -100,16 +100,6 @@ fn times(m: &[f64; 6], d: Vec3) -> Vec3 {
     Vec3::new(m[0] * d.x + m[1] * d.y + m[2] * d.z, m[1] * d.x + m[3] * d.y + m[4] * d.z, m[2] * d.x + m[4] * d.y + m[5] * d.z)
 }
 
-/// The rule's formula on plain numbers: d = c_b - c_a, the unit normals, the moments of a and b
-/// and A_a A_b. Rounds as [`moment_rule_formula`] without the fourth order, which the
-/// vectorised scene loop (`unobstructed_rows`) evaluates on numbers gathered from arrays.
-#[inline(always)]
-fn moment_formula(d: Vec3, na: Vec3, nb: Vec3, ma: &[f64; 6], mb: &[f64; 6], area_product: f64) -> f64 {
-    let t = 1.0 / d.dot(d);
-    let bracket = second_order_bracket(d, na, nb, ma, mb, t);
-    (area_product / PI) * t * t * bracket.max(0.0)
-}
-
 /// pq plus the second-order terms: the bracket of the module docs (t = 1/(d·d)).
 #[inline(always)]
 pub(crate) fn second_order_bracket(d: Vec3, na: Vec3, nb: Vec3, ma: &[f64; 6], mb: &[f64; 6], t: f64) -> f64 {
@@ -183,9 +173,12 @@ pub(crate) fn fourth_order_term(d: Vec3, na: Vec3, nb: Vec3, ea: &[Vec3; 2], eb:
         + (-2.0 * t * e_abw + 12.0 * t2 * e_abd2)
 }
 
-/// The rule to second order, or with `fourth` to fourth order for two parallelograms with
-/// edges `ea`, `eb` (module docs). Branch-free, so that the scene loop's pass over a row
-/// vectorises with a mix of both; the same rounding as [`moment_pair`] and [`moment4_pair`].
+/// The rule on plain numbers: d = c_b - c_a, the unit normals, the second moments of a and b,
+/// the edges of a and b, A_a A_b; to second order, or with `fourth` to fourth order (two
+/// parallelograms, module docs). Branch-free, so that the scene loop's pass over a row
+/// vectorises with a mix of both; with a constant `false` the fourth-order terms are dead code
+/// after inlining. Shared by [`moment_pair`], [`moment4_pair`] and the scene loop
+/// (`unobstructed_rows`), which gathers b's numbers from arrays.
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn moment_rule_formula(d: Vec3, na: Vec3, nb: Vec3, ma: &[f64; 6], mb: &[f64; 6], ea: &[Vec3; 2], eb: &[Vec3; 2], area_product: f64, fourth: bool) -> f64 {
@@ -200,7 +193,7 @@ pub(crate) fn moment_rule_formula(d: Vec3, na: Vec3, nb: Vec3, ma: &[f64; 6], mb
 /// Symmetric in a and b up to rounding.
 #[inline(always)]
 pub fn moment_pair(a: &Moments, b: &Moments) -> f64 {
-    moment_formula(b.centroid - a.centroid, a.normal, b.normal, &a.m, &b.m, a.area * b.area)
+    moment_rule_formula(b.centroid - a.centroid, a.normal, b.normal, &a.m, &b.m, &a.edges, &b.edges, a.area * b.area, false)
 }
 
 /// A_a F_ab by the fourth-order moment rule (module docs); for two parallelograms (e.g.
@@ -340,76 +333,64 @@ mod tests {
         assert!(sum_m < 0.2 * sum_c, "moment {sum_m:.1e} centroid {sum_c:.1e}");
     }
 
-    /// Prints `quadrature::REGULAR_MOMENT4_ERRS`: the fourth-order rule on the same random
-    /// pairs of regular quads (same seed and generator) as `calibrate_regular_quads`, against
-    /// the compensated Gauss references of `calibrate_moment_rule` (their uncertainty added).
-    /// Run: cargo test --release -p nusselt-core calibrate_moment4_rule -- --ignored --nocapture
-    #[test]
-    #[ignore]
-    fn calibrate_moment4_rule() {
-        use crate::quadrature::tests::{random_far_pair_of, random_regular_outline};
+    /// Worst relative error of `rule` per row of `pairs` (one row per FAR_SEPS entry) against
+    /// a compensated Gauss reference of orders `refs(s)` = (high, low), the difference of the
+    /// two (the reference's uncertainty) added to each error, printed as the Rust table `name`.
+    /// Rows in parallel.
+    fn print_calibration(name: &str, pairs: &[Vec<(Polygon, Polygon)>], refs: fn(f64) -> (usize, usize), rule: fn(&Moments, &Moments) -> f64) {
         use rayon::prelude::*;
         let seps = crate::quadrature::FAR_SEPS;
-        let samples: usize = std::env::var("NUSSELT_CAL_SAMPLES").ok().and_then(|s| s.parse().ok()).unwrap_or(300);
-        let mut rng = Rng(4048);
-        let pairs: Vec<Vec<(Polygon, Polygon)>> =
-            seps.iter().map(|&s| (0..samples).map(|_| random_far_pair_of(&mut rng, s, random_regular_outline)).collect()).collect();
         let rows: Vec<(f64, f64)> = seps
             .par_iter()
-            .zip(&pairs)
+            .zip(pairs)
             .map(|(&s, pairs)| {
-                let (hi, lo) = if s < 2.0 { (32, 24) } else { (24, 20) };
+                let (hi, lo) = refs(s);
                 let (mut worst, mut unc_max) = (0.0f64, 0.0f64);
                 for (a, b) in pairs {
                     let r = reference_aff(a, b, hi);
                     let unc = (r - reference_aff(a, b, lo)).abs() / r;
                     unc_max = unc_max.max(unc);
-                    worst = worst.max((moment4_pair(&Moments::new(a), &Moments::new(b)) - r).abs() / r + unc);
+                    worst = worst.max((rule(&Moments::new(a), &Moments::new(b)) - r).abs() / r + unc);
                 }
                 (worst, unc_max)
             })
             .collect();
-        println!("const REGULAR_MOMENT4_ERRS: &[f64] = &[");
+        println!("const {name}: &[f64] = &[");
         for (s, (worst, unc)) in seps.iter().zip(rows) {
             println!("    {worst:.1e}, // s = {s}, reference uncertainty {unc:.1e}");
         }
         println!("];");
     }
 
+    /// NUSSELT_CAL_SAMPLES random pairs (default 300) per FAR_SEPS entry from `pair`.
+    fn calibration_pairs(seed: u64, pair: impl Fn(&mut Rng, f64) -> (Polygon, Polygon)) -> Vec<Vec<(Polygon, Polygon)>> {
+        let samples: usize = std::env::var("NUSSELT_CAL_SAMPLES").ok().and_then(|s| s.parse().ok()).unwrap_or(300);
+        let mut rng = Rng(seed);
+        crate::quadrature::FAR_SEPS.iter().map(|&s| (0..samples).map(|_| pair(&mut rng, s)).collect()).collect()
+    }
+
+    /// Prints `quadrature::REGULAR_MOMENT4_ERRS`: the fourth-order rule on the same random
+    /// pairs of regular quads (same seed and generator) as `calibrate_regular_quads`; the
+    /// reference orders are higher than `calibrate_moment_rule`'s (the errors are smaller).
+    /// Run: cargo test --release -p nusselt-core calibrate_moment4_rule -- --ignored --nocapture
+    #[test]
+    #[ignore]
+    fn calibrate_moment4_rule() {
+        use crate::quadrature::tests::{random_far_pair_of, random_regular_outline};
+        let pairs = calibration_pairs(4048, |rng, s| random_far_pair_of(rng, s, random_regular_outline));
+        print_calibration("REGULAR_MOMENT4_ERRS", &pairs, |s| if s < 2.0 { (32, 24) } else { (24, 20) }, moment4_pair);
+    }
+
     /// Prints the moment rule's calibration rows for `quadrature::MOMENT_ERRS`: the same
     /// random pairs (same seed and generator) as `calibrate_far_field`. The reference is a
     /// compensated Gauss rule of lower order than there (the moment rule's errors are far
     /// larger than the Gauss rules'), and its uncertainty (difference to a lower order) is
-    /// added to each error. Rows in parallel.
+    /// added to each error.
     /// Run: cargo test --release -p nusselt-core calibrate_moment_rule -- --ignored --nocapture
     #[test]
     #[ignore]
     fn calibrate_moment_rule() {
-        use rayon::prelude::*;
-        let seps = crate::quadrature::FAR_SEPS;
-        let samples: usize = std::env::var("NUSSELT_CAL_SAMPLES").ok().and_then(|s| s.parse().ok()).unwrap_or(300);
-        let mut rng = Rng(2024);
-        let pairs: Vec<Vec<(Polygon, Polygon)>> =
-            seps.iter().map(|&s| (0..samples).map(|_| random_far_pair(&mut rng, s)).collect()).collect();
-        let rows: Vec<(f64, f64)> = seps
-            .par_iter()
-            .zip(&pairs)
-            .map(|(&s, pairs)| {
-                let (hi, lo) = if s < 2.0 { (24, 20) } else { (20, 16) };
-                let (mut worst, mut unc_max) = (0.0f64, 0.0f64);
-                for (a, b) in pairs {
-                    let r = reference_aff(a, b, hi);
-                    let unc = (r - reference_aff(a, b, lo)).abs() / r;
-                    unc_max = unc_max.max(unc);
-                    worst = worst.max((moment_pair(&Moments::new(a), &Moments::new(b)) - r).abs() / r + unc);
-                }
-                (worst, unc_max)
-            })
-            .collect();
-        println!("const MOMENT_ERRS: &[f64] = &[");
-        for (s, (worst, unc)) in seps.iter().zip(rows) {
-            println!("    {worst:.1e}, // s = {s}, reference uncertainty {unc:.1e}");
-        }
-        println!("];");
+        let pairs = calibration_pairs(2024, random_far_pair);
+        print_calibration("MOMENT_ERRS", &pairs, |s| if s < 2.0 { (24, 20) } else { (20, 16) }, moment_pair);
     }
 }

@@ -241,9 +241,10 @@ fn first_pass_body<const FOURTH: bool>(
         let full = (hab - rb[k] > eps) & (hba - ra > eps);
         let none = (hab + rb[k] < -eps) | (hba + ra < -eps) | !recv[k];
         let (s, rs2) = (dx * dx + dy * dy + dz * dz, rs * rs);
-        let from = if reg_a & reg[k] { windows[1] } else { windows[0] };
+        let regular = reg_a & reg[k];
+        let from = if regular { windows[1] } else { windows[0] };
         let moment2 = full & (s >= from * rs2);
-        let moment4 = full & reg_a & reg[k] & (s >= windows[2] * rs2) & !moment2;
+        let moment4 = full & regular & (s >= windows[2] * rs2) & !moment2;
         let mb = [m[0][k], m[1][k], m[2][k], m[3][k], m[4][k], m[5][k]];
         let nb = Vec3::new(nx[k], ny[k], nz[k]);
         let eb = [Vec3::new(edge[0][k], edge[1][k], edge[2][k]), Vec3::new(edge[3][k], edge[4][k], edge[5][k])];
