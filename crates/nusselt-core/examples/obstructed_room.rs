@@ -1,9 +1,10 @@
 //! Profiling driver for obstructed `auto` on the box room with an inner box of
 //! bench/obstructed.py (6 n^2 wall quads, 6 (n/3)^2 inner-box quads).
 //!
-//!   cargo run --release --example obstructed_room -- rows N [TOL] [STRIDE]
-//!       time pair_rows over every STRIDE-th row (all receivers j > i); with DUMP=path,
-//!       write "i j G_ij A_i" lines there
+//!   cargo run --release --example obstructed_room -- rows N [TOL] [STRIDE] [SOURCE]
+//!       time pair_rows over every STRIDE-th row (all receivers j > i), obstructed pairs by
+//!       `auto` to TOL or, with SOURCE = k, by `clipping` with a k x k source rule; with
+//!       DUMP=path, write "i j G_ij A_i" lines there
 //!   cargo run --release --example obstructed_room -- cands N
 //!       time the candidate-blocker query of every facing pair
 //!   cargo run --release --example obstructed_room -- points N
@@ -31,11 +32,14 @@ fn main() {
             let stride: usize = args.get(4).and_then(|s| s.parse().ok()).unwrap_or(1);
             let np = polys.len();
             let scene = Scene::new(polys, vec![true; np]).unwrap();
+            let source: Option<usize> = args.get(5).and_then(|s| s.parse().ok());
             let mut o = AllOptions::default();
             o.vis.tol = tol;
+            o.vis.clip_source = source;
             let rows: Vec<usize> = (0..np).step_by(stride).collect();
             let t0 = Instant::now();
-            let r = scene.pair_rows(&rows, AnyMethod::Visible(VisMethod::Auto), &o, &AtomicBool::new(false)).unwrap();
+            let m = if source.is_some() { VisMethod::Clipping } else { VisMethod::Auto };
+            let r = scene.pair_rows(&rows, AnyMethod::Visible(m), &o, &AtomicBool::new(false)).unwrap();
             let dt = t0.elapsed().as_secs_f64();
             let pairs: usize = r.iter().map(|x| x.len()).sum();
             if let Ok(path) = std::env::var("DUMP") {
@@ -116,8 +120,10 @@ fn main() {
             let j: usize = args[4].parse().unwrap();
             let tol: f64 = args.get(5).and_then(|s| s.parse().ok()).unwrap_or(1e-6);
             let obs: Vec<Polygon> = (0..polys.len()).filter(|&k| k != i && k != j).map(|k| polys[k].clone()).collect();
+            let source: Option<usize> = args.get(5).and_then(|s| s.parse().ok());
             let mut o = AllOptions::default();
             o.vis.tol = tol;
+            o.vis.clip_source = source;
             let t0 = Instant::now();
             let e = nusselt_core::scene::pair_view_factor(polys[i].clone(), polys[j].clone(), obs, AnyMethod::Visible(VisMethod::Auto), &o).unwrap();
             println!("F {:.15e} in {:.3} s", e.value, t0.elapsed().as_secs_f64());

@@ -169,8 +169,30 @@ fn kernel(x: Vec3, nx: Vec3, y: Vec3, ny: Vec3) -> f64 {
     }
 }
 
+/// What the caller of [`pair_with`] already knows of a pair (scene rows compute these for
+/// whole rows at once).
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Known<'a> {
+    /// The unobstructed G as [`method::area_factor`] with `auto` at `exact_tol` gives it.
+    pub free: Option<f64>,
+    /// A superset of the pair's candidate blockers, sorted (see
+    /// [`Visibility::candidates_among`]).
+    pub among: Option<&'a [u32]>,
+}
+
 /// G_ij = A_i F_ij between polygons i and j of the scene, with visibility.
 pub fn pair(ctx: &Context, i: usize, j: usize, m: VisMethod, o: &VisOptions) -> Result<Estimate> {
+    pair_with(ctx, i, j, m, o, Known::default())
+}
+
+/// True when `m` computes a pair with nothing in between by the exact kernel (so a caller
+/// may compute such pairs itself, and [`Known::free`] is the answer for them).
+pub fn exact_when_unobstructed(m: VisMethod, o: &VisOptions) -> bool {
+    o.control_variate || !matches!(m, VisMethod::Quadrature | VisMethod::MonteCarlo)
+}
+
+/// [`pair`], using what the caller knows of the pair instead of computing it again.
+pub fn pair_with(ctx: &Context, i: usize, j: usize, m: VisMethod, o: &VisOptions, known: Known) -> Result<Estimate> {
     let (a, b) = (&ctx.polygons[i], &ctx.polygons[j]);
     if method::facing(a, b) == method::Facing::None {
         return Ok(Estimate::exact(0.0));
@@ -185,10 +207,16 @@ pub fn pair(ctx: &Context, i: usize, j: usize, m: VisMethod, o: &VisOptions) -> 
     };
     let (sa, sb) = (ca.as_ref().unwrap_or(a), cb.as_ref().unwrap_or(b));
     let mut cand = Vec::new();
-    ctx.vis.candidates_between(sa, sb, &ignore, &mut cand);
-    let exact = || {
-        let opts = method::Options { tol: o.exact_tol, ..Default::default() };
-        method::area_factor(a, b, Method::Auto, &opts, ctx.rules.map(|r| (r, i, j)))
+    match known.among {
+        Some(among) => ctx.vis.candidates_among(sa, sb, &ignore, among, &mut cand),
+        None => ctx.vis.candidates_between(sa, sb, &ignore, &mut cand),
+    }
+    let exact = || match known.free {
+        Some(g) => Ok(g),
+        None => {
+            let opts = method::Options { tol: o.exact_tol, ..Default::default() };
+            method::area_factor(a, b, Method::Auto, &opts, ctx.rules.map(|r| (r, i, j)))
+        }
     };
     if cand.is_empty() {
         // Nothing can block: every method reduces to the unobstructed integral.

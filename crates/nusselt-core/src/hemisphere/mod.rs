@@ -272,6 +272,16 @@ pub(crate) mod brute {
             out.clear();
             out.extend((0..self.scene.len() as u32).filter(|j| !ignore.contains(j)));
         }
+        fn candidates_toward_box(&self, a: &Polygon, _lo: Vec3, _hi: Vec3, ignore: &[u32], among: Option<&[u32]>, out: &mut Vec<u32>) {
+            match among {
+                Some(among) => self.candidates_among(a, a, ignore, among, out),
+                None => self.candidates_between(a, a, ignore, out),
+            }
+        }
+        fn candidates_among(&self, _a: &Polygon, _b: &Polygon, ignore: &[u32], among: &[u32], out: &mut Vec<u32>) {
+            out.clear();
+            out.extend(among.iter().copied().filter(|j| !ignore.contains(j)));
+        }
     }
 }
 

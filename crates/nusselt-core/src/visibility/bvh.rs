@@ -59,6 +59,10 @@ pub struct Bvh {
     normals: Vec<Vec3>,
     /// Largest absolute coordinate of the scene: the size rounding errors scale with.
     max_abs: f64,
+    /// The triangles of polygon k are `poly_tris[poly_start[k]..poly_start[k + 1]]` (for
+    /// [`Visibility::candidates_among`], which tests given polygons without the tree).
+    poly_start: Vec<u32>,
+    poly_tris: Vec<[Vec3; 3]>,
 }
 
 #[derive(Clone, Copy)]
@@ -115,7 +119,9 @@ impl Bvh {
         let mut tris = Vec::new();
         let mut normals = vec![Vec3::ZERO; polygons.len()];
         let mut max_abs: f64 = 0.0;
+        let mut poly_start = Vec::with_capacity(polygons.len() + 1);
         for (i, p) in polygons.iter().enumerate() {
+            poly_start.push(tris.len() as u32);
             if mask.is_some_and(|m| !m[i]) {
                 continue;
             }
@@ -132,7 +138,12 @@ impl Bvh {
                 }
             }
         }
-        let mut bvh = Bvh { nodes: Vec::with_capacity(2 * tris.len() / LEAF_MAX + 1), tris, normals, max_abs };
+        poly_start.push(tris.len() as u32);
+        if tris.len() > u32::MAX as usize {
+            return Err(Error::InvalidArgument(format!("too many triangles for the BVH: {}", tris.len())));
+        }
+        let poly_tris = tris.iter().map(|t: &Tri| t.v).collect();
+        let mut bvh = Bvh { nodes: Vec::with_capacity(2 * tris.len() / LEAF_MAX + 1), tris, normals, max_abs, poly_start, poly_tris };
         if !bvh.tris.is_empty() {
             let boxes: Vec<Aabb> = bvh.tris.iter().map(tri_box).collect();
             let cents: Vec<Vec3> = boxes.iter().map(|b| 0.5 * (b.lo + b.hi)).collect();
@@ -438,7 +449,50 @@ impl Visibility for Bvh {
         if self.nodes.is_empty() {
             return;
         }
-        let shaft = Shaft::new(a, b, self.max_abs);
+        self.collect(&Shaft::new(a, b, self.max_abs), ignore, out);
+    }
+
+    /// The polygons meeting the hull of a and the box (the shaft of [`Shaft::toward_box`],
+    /// tested like [`Visibility::candidates_between`]'s).
+    fn candidates_toward_box(&self, a: &Polygon, lo: Vec3, hi: Vec3, ignore: &[u32], among: Option<&[u32]>, out: &mut Vec<u32>) {
+        out.clear();
+        let shaft = || Shaft::toward_box(a, lo, hi, self.max_abs);
+        match among {
+            Some(among) => self.test_among(shaft, ignore, among, out),
+            None if !self.nodes.is_empty() => self.collect(&shaft(), ignore, out),
+            None => {}
+        }
+    }
+
+    /// The same shaft and triangle tests as [`Visibility::candidates_between`], on the
+    /// triangles of the polygons in `among` only (no tree walk).
+    fn candidates_among(&self, a: &Polygon, b: &Polygon, ignore: &[u32], among: &[u32], out: &mut Vec<u32>) {
+        out.clear();
+        self.test_among(|| Shaft::new(a, b, self.max_abs), ignore, among, out);
+    }
+}
+
+impl Bvh {
+    /// The polygons of `among` (sorted, not in `ignore`) with a triangle the shaft may meet;
+    /// the shaft is built only if some polygon needs it.
+    fn test_among(&self, shaft: impl FnOnce() -> Shaft, ignore: &[u32], among: &[u32], out: &mut Vec<u32>) {
+        let mut shaft = Some(shaft);
+        let mut built = None;
+        for &k in among {
+            let ku = k as usize;
+            if ignore.contains(&k) || ku + 1 >= self.poly_start.len() {
+                continue;
+            }
+            let s = built.get_or_insert_with(|| (shaft.take().unwrap())());
+            let tris = &self.poly_tris[self.poly_start[ku] as usize..self.poly_start[ku + 1] as usize];
+            if tris.iter().any(|t| s.may_meet_triangle(t, self.normals[ku])) {
+                out.push(k);
+            }
+        }
+    }
+
+    /// Ids of the polygons (not in `ignore`) with a triangle the shaft may meet, sorted.
+    fn collect(&self, shaft: &Shaft, ignore: &[u32], out: &mut Vec<u32>) {
         let mut stack = vec![0usize];
         while let Some(node) = stack.pop() {
             let n = &self.nodes[node];
@@ -479,7 +533,24 @@ pub(crate) struct Shaft {
 
 impl Shaft {
     pub(crate) fn new(a: &Polygon, b: &Polygon, scene_max_abs: f64) -> Shaft {
-        let mut points: Vec<Vec3> = a.vertices().iter().chain(b.vertices()).copied().collect();
+        let points: Vec<Vec3> = a.vertices().iter().chain(b.vertices()).copied().collect();
+        Shaft::build(points, &[(a, b.vertices()), (b, a.vertices())], scene_max_abs)
+    }
+
+    /// The hull of polygon a and the box [lo, hi]: a superset of the shaft of a (or any part
+    /// of it) and any polygon inside the box. Its supporting planes are a's plane and the
+    /// extreme planes through a's edges (none through the box's edges: still a superset).
+    pub(crate) fn toward_box(a: &Polygon, lo: Vec3, hi: Vec3, scene_max_abs: f64) -> Shaft {
+        let corners: Vec<Vec3> =
+            (0..8).map(|k| Vec3::new([lo.x, hi.x][k & 1], [lo.y, hi.y][(k >> 1) & 1], [lo.z, hi.z][k >> 2])).collect();
+        let points: Vec<Vec3> = a.vertices().iter().chain(&corners).copied().collect();
+        Shaft::build(points, &[(a, &corners)], scene_max_abs)
+    }
+
+    /// The shaft of the hull of `points`, bounded by its box, by the plane of each polygon p
+    /// of `faces` when the points given with it lie on one side, and by the extreme planes
+    /// through p's edges. Every point of every face polygon must be in `points`.
+    fn build(mut points: Vec<Vec3>, faces: &[(&Polygon, &[Vec3])], scene_max_abs: f64) -> Shaft {
         let mut lo = Vec3::splat(f64::INFINITY);
         let mut hi = Vec3::splat(f64::NEG_INFINITY);
         for p in &points {
@@ -493,13 +564,13 @@ impl Shaft {
         let lo_t = lo - Vec3::splat(tol);
         let hi_t = hi + Vec3::splat(tol);
         let mut planes = Vec::new();
-        for (p, q) in [(a, b), (b, a)] {
+        for &(p, q) in faces {
             // Plane of p, when q lies on one side of it.
             let n = p.normal();
             let c = p.centroid();
             let (mut smin, mut smax) = (f64::INFINITY, f64::NEG_INFINITY);
-            for v in q.vertices() {
-                let s = (v - c).dot(n);
+            for v in q {
+                let s = (*v - c).dot(n);
                 smin = smin.min(s);
                 smax = smax.max(s);
             }
@@ -559,12 +630,15 @@ impl Shaft {
         {
             return false;
         }
+        // four planes at a time, without branches inside a block (so the block vectorises)
         for b in &self.blocks {
+            let mut separated = false;
             for k in 0..4 {
                 let beyond = |x: &Vec3| b[0][k] * x.x + b[1][k] * x.y + b[2][k] * x.z >= b[6][k];
-                if v.iter().all(beyond) {
-                    return false;
-                }
+                separated |= beyond(&v[0]) & beyond(&v[1]) & beyond(&v[2]);
+            }
+            if separated {
+                return false;
             }
         }
         // The triangle's plane separates when every hull vertex is on one side (or on it).

@@ -498,3 +498,74 @@ fn bench_rays() {
         total as f64 / pairs as f64
     );
 }
+
+#[test]
+fn box_shafts_keep_every_real_blocker_and_narrow_like_the_pair_shaft() {
+    // A source quad, a cluster of receiver quads in a box, random triangles: the box query
+    // (and a smaller box's query restricted to it) must keep every polygon some segment of a
+    // pair meets, and the pair query restricted to it must give what the pair query gives,
+    // up to polygons neither shaft can confirm.
+    let mut rng = Rng::new(77);
+    let (mut real, mut narrowed) = (0, 0);
+    for case in 0..200 {
+        let a = Polygon::new(vec![
+            Vec3::new(-0.5, -0.5, 0.0),
+            Vec3::new(0.5, -0.5, 0.0),
+            Vec3::new(0.5, 0.5, 0.0),
+            Vec3::new(-0.5, 0.5, 0.0),
+        ])
+        .unwrap();
+        let c0 = Vec3::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0), rng.range(1.0, 2.0));
+        let mut polys = vec![a.clone()];
+        for k in 0..4 {
+            let c = c0 + Vec3::new(0.3 * (k % 2) as f64, 0.3 * (k / 2) as f64, 0.1 * rng.f());
+            let s = 0.12;
+            polys.push(Polygon::new(vec![c + Vec3::new(-s, s, 0.), c + Vec3::new(s, s, 0.), c + Vec3::new(s, -s, 0.), c + Vec3::new(-s, -s, 0.)]).unwrap());
+        }
+        for _ in 0..40 {
+            let c = Vec3::new(rng.range(-1.5, 1.5), rng.range(-1.5, 1.5), rng.range(-0.3, 2.3));
+            let s = rng.range(0.02, 0.3);
+            if let Ok(p) = Polygon::new(vec![c + s * rng.unit(), c + s * rng.unit(), c + s * rng.unit()]) {
+                polys.push(p);
+            }
+        }
+        let bvh = Bvh::new(&polys).unwrap();
+        let bounds = |ks: &[usize]| {
+            let (mut lo, mut hi) = (Vec3::splat(f64::INFINITY), Vec3::splat(f64::NEG_INFINITY));
+            for &k in ks {
+                for v in polys[k].vertices() {
+                    lo = lo.min(*v);
+                    hi = hi.max(*v);
+                }
+            }
+            (lo, hi)
+        };
+        let (lo, hi) = bounds(&[1, 2, 3, 4]);
+        let (mut all, mut half, mut cand, mut among) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+        bvh.candidates_toward_box(&a, lo, hi, &[0], None, &mut all);
+        assert!(all.windows(2).all(|w| w[0] < w[1]) && !all.contains(&0));
+        let (lo2, hi2) = bounds(&[1, 2]);
+        bvh.candidates_toward_box(&a, lo2, hi2, &[0], Some(&all), &mut half);
+        assert!(half.iter().all(|k| all.contains(k)));
+        let pa = crate::sampling::PolygonSampler::new(&a);
+        for j in 1..5usize {
+            let b = &polys[j];
+            bvh.candidates_between(&a, b, &[0, j as u32], &mut cand);
+            let parent = if j <= 2 { &half } else { &all };
+            bvh.candidates_among(&a, b, &[0, j as u32], parent, &mut among);
+            assert!(among.iter().all(|k| cand.contains(k)), "case {case} pair {j}: {among:?} not in {cand:?}");
+            narrowed += cand.len() - among.len();
+            let pb = crate::sampling::PolygonSampler::new(b);
+            let segs: Vec<(Vec3, Vec3)> = (0..300).map(|_| (pa.sample([rng.f(), rng.f()]), pb.sample([rng.f(), rng.f()]))).collect();
+            for (k, p) in polys.iter().enumerate().skip(1) {
+                if k != j && segs.iter().any(|(x, y)| segment_crosses(p, *x, *y)) {
+                    real += 1;
+                    assert!(among.contains(&(k as u32)), "case {case} pair {j}: blocker {k} dropped");
+                }
+            }
+        }
+    }
+    assert!(real > 150, "too few real blockers to mean anything: {real}");
+    // the pair query restricted to the box's answer is almost always the pair query itself
+    assert!(narrowed < real / 4, "{narrowed} candidates lost against {real} real blockers");
+}
