@@ -251,7 +251,7 @@ pub fn pair_with(ctx: &Context, i: usize, j: usize, m: VisMethod, o: &VisOptions
                 Some(k) => source_points(sa, k),
                 None => {
                     let r7 = radon7();
-                    split_at_kinks(sa, b, &blockers).iter().flat_map(|t| rule_points(&r7, t)).collect()
+                    split_at_kinks(sa, b, &blockers, MAX_KINK_PIECES).iter().flat_map(|t| rule_points(&r7, t)).collect()
                 }
             };
             for (x, w) in points {
@@ -275,7 +275,8 @@ pub fn pair_with(ctx: &Context, i: usize, j: usize, m: VisMethod, o: &VisOptions
                         return Ok(Estimate::exact(0.0));
                     }
                     let shadowed = |x: Vec3, bl: &[&Polygon]| point_shadowed_view_factor(x, a.normal(), b, bl);
-                    let start = split_at_kinks(sa, b, &blockers);
+                    let most = if o.tol >= COARSE_START_TOL { COARSE_KINK_PIECES } else { MAX_KINK_PIECES };
+                    let start = split_at_kinks(sa, b, &blockers, most);
                     let test = ShadowTest::new(sb, &blockers);
                     let hidden = adaptive_over_source(&start, &blockers, &shadowed, &test, o.tol * free, o);
                     Estimate::exact((free - hidden).clamp(0.0, free))
@@ -611,6 +612,14 @@ impl<'a> ShadowTest<'a> {
 /// Most pieces the kink split may cut a source into.
 const MAX_KINK_PIECES: usize = 64;
 
+/// Most kink pieces of `clipping` from [`COARSE_START_TOL`] on. The coarse start spends 4
+/// evaluations per piece, nearly all an integral costs at such targets. 300 obstructed pairs
+/// of the room of bench/obstructed.py at tol 1e-2, largest error relative to the
+/// unobstructed F with 8 pieces against 64 (`obstructed_schemes`, three mesh sizes): 2.2e-3
+/// against 1.3e-3 (9 quads per wall edge), 3.9e-3 against 3.9e-3 (15), 4.1e-3 against 1.6e-3
+/// (21), in 780-800 instead of 1300 us per pair.
+const COARSE_KINK_PIECES: usize = 8;
+
 /// The source's triangles, cut along the lines where the visible-region F has a kink that
 /// the dyadic refinement would otherwise chase without end (an O(h^2) error instead of the
 /// degree-5 rule's fast convergence on smooth pieces):
@@ -620,13 +629,13 @@ const MAX_KINK_PIECES: usize = 64;
 ///   slides over the receiver's edge and the clipped area changes slope. Parallel edges are
 ///   the rule in architectural and meshed scenes.
 /// Other event lines (shadow vertices crossing edges) make only the second derivative jump.
-fn split_at_kinks(a: &Polygon, receiver: &Polygon, blockers: &[&Polygon]) -> Vec<[Vec3; 3]> {
+fn split_at_kinks(a: &Polygon, receiver: &Polygon, blockers: &[&Polygon], most: usize) -> Vec<[Vec3; 3]> {
     let kinks = kink_planes(a, receiver, blockers);
     let v = a.vertices();
     let mut pieces: Vec<Vec<Vec3>> = a.triangulate().iter().map(|t| vec![v[t[0]], v[t[1]], v[t[2]]]).collect();
     let (mut lo, mut hi) = (Vec::new(), Vec::new());
     for &(q, n) in &kinks.planes {
-        if pieces.len() >= MAX_KINK_PIECES {
+        if pieces.len() >= most {
             break;
         }
         let mut next = Vec::with_capacity(pieces.len() + 4);
