@@ -120,10 +120,8 @@ fn main() {
             let j: usize = args[4].parse().unwrap();
             let tol: f64 = args.get(5).and_then(|s| s.parse().ok()).unwrap_or(1e-6);
             let obs: Vec<Polygon> = (0..polys.len()).filter(|&k| k != i && k != j).map(|k| polys[k].clone()).collect();
-            let source: Option<usize> = args.get(5).and_then(|s| s.parse().ok());
             let mut o = AllOptions::default();
             o.vis.tol = tol;
-            o.vis.clip_source = source;
             let t0 = Instant::now();
             let e = nusselt_core::scene::pair_view_factor(polys[i].clone(), polys[j].clone(), obs, AnyMethod::Visible(VisMethod::Auto), &o).unwrap();
             println!("F {:.15e} in {:.3} s", e.value, t0.elapsed().as_secs_f64());

@@ -221,9 +221,9 @@ pub fn pair_with(ctx: &Context, i: usize, j: usize, m: VisMethod, o: &VisOptions
     if cand.is_empty() {
         // Nothing can block: every method reduces to the unobstructed integral.
         return Ok(match m {
-            VisMethod::Quadrature if !o.control_variate => Estimate::exact(quadrature(a, b, None, o)),
-            VisMethod::MonteCarlo if !o.control_variate => montecarlo(a, b, None, o, i, j),
-            _ => Estimate::exact(exact()?),
+            _ if exact_when_unobstructed(m, o) => Estimate::exact(exact()?),
+            VisMethod::MonteCarlo => montecarlo(a, b, None, o, i, j),
+            _ => Estimate::exact(quadrature(a, b, None, o)),
         });
     }
     let blockers: Vec<&Polygon> = cand.iter().map(|&k| &ctx.polygons[k as usize]).collect();
@@ -275,8 +275,7 @@ pub fn pair_with(ctx: &Context, i: usize, j: usize, m: VisMethod, o: &VisOptions
                         return Ok(Estimate::exact(0.0));
                     }
                     let shadowed = |x: Vec3, bl: &[&Polygon]| point_shadowed_view_factor(x, a.normal(), b, bl);
-                    let most = if o.tol >= COARSE_START_TOL { COARSE_KINK_PIECES } else { MAX_KINK_PIECES };
-                    let start = split_at_kinks(sa, b, &blockers, most);
+                    let start = split_at_kinks(sa, b, &blockers, kink_pieces(o.tol));
                     let test = ShadowTest::new(sb, &blockers);
                     let hidden = adaptive_over_source(&start, &blockers, &shadowed, &test, o.tol * free, o);
                     Estimate::exact((free - hidden).clamp(0.0, free))
@@ -619,6 +618,11 @@ const MAX_KINK_PIECES: usize = 64;
 /// against 1.3e-3 (9 quads per wall edge), 3.9e-3 against 3.9e-3 (15), 4.1e-3 against 1.6e-3
 /// (21), in 780-800 instead of 1300 us per pair.
 const COARSE_KINK_PIECES: usize = 8;
+
+/// Most kink pieces of the adaptive source integration for a relative target `tol`.
+fn kink_pieces(tol: f64) -> usize {
+    if tol >= COARSE_START_TOL { COARSE_KINK_PIECES } else { MAX_KINK_PIECES }
+}
 
 /// The source's triangles, cut along the lines where the visible-region F has a kink that
 /// the dyadic refinement would otherwise chase without end (an O(h^2) error instead of the

@@ -267,29 +267,30 @@ impl Scene {
                 // Clusters of receivers, halved while something may block: a cluster whose
                 // shaft meets nothing is unobstructed as a whole.
                 let mut stack: Vec<(&[u32], Option<Vec<u32>>)> = order.chunks(CLUSTER).rev().map(|c| (c, None)).collect();
+                // Pairs of two or fewer test their own shafts against the parent's answer.
                 while let Some((cluster, parent)) = stack.pop() {
-                    let mut among = Vec::new();
-                    if cluster.len() > 2 || parent.is_none() {
-                        let (mut lo, mut hi) = (Vec3::splat(f64::INFINITY), Vec3::splat(f64::NEG_INFINITY));
-                        for &k in cluster {
-                            for v in p[cols[k as usize] as usize].vertices() {
+                    let among = match parent {
+                        Some(parent) if cluster.len() <= 2 => parent,
+                        parent => {
+                            let (mut lo, mut hi) = (Vec3::splat(f64::INFINITY), Vec3::splat(f64::NEG_INFINITY));
+                            for v in cluster.iter().flat_map(|&k| p[cols[k as usize] as usize].vertices()) {
                                 lo = lo.min(*v);
                                 hi = hi.max(*v);
                             }
+                            let mut among = Vec::new();
+                            ctx.vis.candidates_toward_box(&p[i], lo, hi, &[i as u32], parent.as_deref(), &mut among);
+                            if among.is_empty() {
+                                continue;
+                            }
+                            if cluster.len() > 2 {
+                                let (x, y) = cluster.split_at(cluster.len() / 2);
+                                stack.push((y, Some(among.clone())));
+                                stack.push((x, Some(among)));
+                                continue;
+                            }
+                            among
                         }
-                        ctx.vis.candidates_toward_box(&p[i], lo, hi, &[i as u32], parent.as_deref(), &mut among);
-                        if among.is_empty() {
-                            continue;
-                        }
-                        if cluster.len() > 2 {
-                            let (x, y) = cluster.split_at(cluster.len() / 2);
-                            stack.push((y, Some(among.clone())));
-                            stack.push((x, Some(among)));
-                            continue;
-                        }
-                    } else {
-                        among = parent.unwrap();
-                    }
+                    };
                     for &k in cluster {
                         let (k, j) = (k as usize, cols[k as usize] as usize);
                         let known = obstructed::Known { free: Some(g0[k]), among: Some(&among) };

@@ -59,10 +59,11 @@ pub struct Bvh {
     normals: Vec<Vec3>,
     /// Largest absolute coordinate of the scene: the size rounding errors scale with.
     max_abs: f64,
-    /// The triangles of polygon k are `poly_tris[poly_start[k]..poly_start[k + 1]]` (for
-    /// [`Visibility::candidates_among`], which tests given polygons without the tree).
+    /// The triangles of polygon k are `tris[t]` for t in
+    /// `poly_tris[poly_start[k]..poly_start[k + 1]]` (for [`Visibility::candidates_among`],
+    /// which tests given polygons without the tree).
     poly_start: Vec<u32>,
-    poly_tris: Vec<[Vec3; 3]>,
+    poly_tris: Vec<u32>,
 }
 
 #[derive(Clone, Copy)]
@@ -142,14 +143,18 @@ impl Bvh {
         if tris.len() > u32::MAX as usize {
             return Err(Error::InvalidArgument(format!("too many triangles for the BVH: {}", tris.len())));
         }
-        let poly_tris = tris.iter().map(|t: &Tri| t.v).collect();
-        let mut bvh = Bvh { nodes: Vec::with_capacity(2 * tris.len() / LEAF_MAX + 1), tris, normals, max_abs, poly_start, poly_tris };
+        let mut bvh = Bvh { nodes: Vec::with_capacity(2 * tris.len() / LEAF_MAX + 1), tris, normals, max_abs, poly_start, poly_tris: Vec::new() };
         if !bvh.tris.is_empty() {
             let boxes: Vec<Aabb> = bvh.tris.iter().map(tri_box).collect();
             let cents: Vec<Vec3> = boxes.iter().map(|b| 0.5 * (b.lo + b.hi)).collect();
             let mut order: Vec<u32> = (0..bvh.tris.len() as u32).collect();
             build(&mut bvh.nodes, &boxes, &cents, &mut order, 0, 0);
             bvh.tris = order.iter().map(|&k| bvh.tris[k as usize]).collect();
+            // triangle k (in polygon order) now sits at the position where order holds k
+            bvh.poly_tris = vec![0; order.len()];
+            for (at, &k) in order.iter().enumerate() {
+                bvh.poly_tris[k as usize] = at as u32;
+            }
         }
         Ok(bvh)
     }
@@ -474,18 +479,17 @@ impl Visibility for Bvh {
 
 impl Bvh {
     /// The polygons of `among` (sorted, not in `ignore`) with a triangle the shaft may meet;
-    /// the shaft is built only if some polygon needs it.
+    /// the shaft is built only if some polygon needs testing.
     fn test_among(&self, shaft: impl FnOnce() -> Shaft, ignore: &[u32], among: &[u32], out: &mut Vec<u32>) {
-        let mut shaft = Some(shaft);
-        let mut built = None;
-        for &k in among {
+        let tested = |k: &&u32| !ignore.contains(k) && (**k as usize) + 1 < self.poly_start.len();
+        if !among.iter().any(|k| tested(&k)) {
+            return;
+        }
+        let shaft = shaft();
+        for &k in among.iter().filter(tested) {
             let ku = k as usize;
-            if ignore.contains(&k) || ku + 1 >= self.poly_start.len() {
-                continue;
-            }
-            let s = built.get_or_insert_with(|| (shaft.take().unwrap())());
             let tris = &self.poly_tris[self.poly_start[ku] as usize..self.poly_start[ku + 1] as usize];
-            if tris.iter().any(|t| s.may_meet_triangle(t, self.normals[ku])) {
+            if tris.iter().any(|&t| shaft.may_meet_triangle(&self.tris[t as usize].v, self.normals[ku])) {
                 out.push(k);
             }
         }
