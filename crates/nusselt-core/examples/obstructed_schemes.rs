@@ -5,7 +5,7 @@
 //! G = A_i F_ij (what `tol` bounds).
 use nusselt_core::method::{self, Facing, Method};
 use nusselt_core::obstructed::{self, Context, VisMethod, VisOptions};
-use nusselt_core::visibility::{Bvh, Visibility};
+use nusselt_core::visibility::{Bvh, Occluders, Visibility};
 use std::time::Instant;
 
 #[path = "common/room.rs"]
@@ -16,8 +16,10 @@ fn main() {
     let n: usize = args.get(1).and_then(|s| s.parse().ok()).unwrap_or(9);
     let want: usize = args.get(2).and_then(|s| s.parse().ok()).unwrap_or(300);
     let polys = room::room(n);
-    let bvh = Bvh::new(&polys).unwrap();
-    let ctx = Context { polygons: &polys, vis: &bvh, rules: None };
+    let bvh = Bvh::new(&polys).unwrap(); // picks the pairs (the same ones as before occluders)
+    let occ = Occluders::new(&polys);
+    let occ_bvh = Bvh::new(&occ.polygons).unwrap();
+    let ctx = Context { polygons: &polys, occluders: &occ, vis: &occ_bvh, rules: None };
     // random pairs with a candidate blocker in between (xorshift, fixed seed)
     let (mut pairs, mut cand, np) = (Vec::new(), Vec::new(), polys.len());
     let mut s = 0x9e37_79b9_7f4a_7c15u64;

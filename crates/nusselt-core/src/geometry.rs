@@ -111,6 +111,50 @@ impl Polygon {
     }
 }
 
+/// The union of the convex outlines `s` and `t` (the same orientation) when they share an
+/// edge (the same two points, in opposite directions, as neighbouring tiles of one mesh have
+/// them bit for bit) and the union is convex; vertices left on a straight line at the joint
+/// are dropped. `turn(a, b, c)` gives the cross and dot products of a -> b and b -> c (the
+/// cross positive for a turn to the left of the outline) and their scale, the product of the
+/// two lengths; a turn whose sine is within `straight` of 0 in the forward direction counts
+/// as straight. (Outlines that still carry straight vertices can share two edges in a row:
+/// the union then doubles back along one, a turn of sine 0 that is not straight.)
+pub(crate) fn join_convex<P: Copy + PartialEq>(s: &[P], t: &[P], turn: impl Fn(P, P, P) -> (f64, f64, f64), straight: f64) -> Option<Vec<P>> {
+    let (m, l) = (s.len(), t.len());
+    for i in 0..m {
+        let (u, v) = (s[i], s[(i + 1) % m]);
+        for j in 0..l {
+            if t[j] != v || t[(j + 1) % l] != u {
+                continue;
+            }
+            // s from v round to u, then t after u round to before v
+            let mut out: Vec<P> = (1..=m).map(|k| s[(i + k) % m]).collect();
+            out.extend((2..l).map(|k| t[(j + k) % l]));
+            let n = out.len();
+            let convex = (0..n).all(|k| {
+                let (cross, dot, scale) = turn(out[k], out[(k + 1) % n], out[(k + 2) % n]);
+                cross > straight * scale || (cross >= -straight * scale && dot > 0.0)
+            });
+            if !convex {
+                return None;
+            }
+            // drop straight vertices (the joint's ends, when the union continues an edge)
+            let mut k = 0;
+            while k < out.len() && out.len() > 3 {
+                let n = out.len();
+                let (cross, _, scale) = turn(out[(k + n - 1) % n], out[k], out[(k + 1) % n]);
+                if cross.abs() <= straight * scale {
+                    out.remove(k);
+                } else {
+                    k += 1;
+                }
+            }
+            return Some(out);
+        }
+    }
+    None
+}
+
 /// Newell's normal: a vector along the polygon normal whose length is twice the area.
 /// Exact for planar polygons, convex or concave, and robust for nearly degenerate ones.
 pub fn newell_normal(v: &[Vec3]) -> Vec3 {

@@ -17,7 +17,7 @@ use crate::method::{self, Method, RuleCache};
 use crate::quadrature::AreaRule;
 use crate::sampling::{hash_seed, sobol4, PolygonSampler};
 use crate::visibility::shadow::{point_free_and_shadowed, point_shadowed_view_factor, point_visible_view_factor};
-use crate::visibility::Visibility;
+use crate::visibility::{Occluders, Visibility};
 use std::f64::consts::PI;
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -148,11 +148,24 @@ impl Estimate {
     }
 }
 
-/// What the estimators need of a scene: its polygons, visibility, and cached area rules.
+/// What the estimators need of a scene: its polygons, its occluders with visibility over
+/// them (ids in `vis` are occluder ids), and cached area rules.
 pub struct Context<'a> {
     pub polygons: &'a [Polygon],
+    pub occluders: &'a Occluders,
     pub vis: &'a dyn Visibility,
     pub rules: Option<&'a RuleCache>,
+}
+
+impl Context<'_> {
+    /// The occluders of the scene polygons `ids` (which cannot block their own pair).
+    fn ignore<const N: usize>(&self, ids: [usize; N]) -> [u32; N] {
+        ids.map(|k| self.occluders.owner[k])
+    }
+
+    fn blockers(&self, cand: &[u32]) -> Vec<&Polygon> {
+        cand.iter().map(|&k| &self.occluders.polygons[k as usize]).collect()
+    }
 }
 
 /// The kernel cos_i cos_j / (pi r^2) between x (normal nx) and y (normal ny), 0 behind.
@@ -197,7 +210,7 @@ pub fn pair_with(ctx: &Context, i: usize, j: usize, m: VisMethod, o: &VisOptions
     if method::facing(a, b) == method::Facing::None {
         return Ok(Estimate::exact(0.0));
     }
-    let ignore = [i as u32, j as u32];
+    let ignore = ctx.ignore([i, j]);
     // Only the part of each polygon in front of the other exchanges radiation: the shaft and
     // the source integration use those parts (a source point behind the receiver's plane
     // sees nothing, and a thin strip of such points would escape a sampling rule).
@@ -226,7 +239,7 @@ pub fn pair_with(ctx: &Context, i: usize, j: usize, m: VisMethod, o: &VisOptions
             _ => Estimate::exact(quadrature(a, b, None, o)),
         });
     }
-    let blockers: Vec<&Polygon> = cand.iter().map(|&k| &ctx.polygons[k as usize]).collect();
+    let blockers = ctx.blockers(&cand);
     let visible = |x: Vec3, y: Vec3| !ctx.vis.occluded(x, y, &ignore);
     Ok(match m {
         VisMethod::Quadrature => {
@@ -315,9 +328,10 @@ fn clip_pair_polygons(a: &Polygon, b: &Polygon) -> Option<(Option<Polygon>, Opti
 }
 
 /// F from a differential area (p, unit n) to polygon j of the scene, with visibility.
-/// `ignore` lists scene ids that cannot block (the receiver, and the source's own polygon).
-pub fn point(ctx: &Context, p: Vec3, n: Vec3, j: usize, ignore: &[u32], m: VisMethod, o: &VisOptions) -> Result<Estimate> {
+/// Nothing coplanar with the receiver blocks (see [`Occluders`]).
+pub fn point(ctx: &Context, p: Vec3, n: Vec3, j: usize, m: VisMethod, o: &VisOptions) -> Result<Estimate> {
     let b = &ctx.polygons[j];
+    let ignore = &ctx.ignore([j]);
     // Candidate blockers: a point is a degenerate source polygon, so test against a tiny
     // triangle around p in its tangent plane.
     let (t, s) = crate::geometry::tangent_frame(n);
@@ -332,7 +346,7 @@ pub fn point(ctx: &Context, p: Vec3, n: Vec3, j: usize, ignore: &[u32], m: VisMe
     if cand.is_empty() {
         return Ok(Estimate::exact(lambert));
     }
-    let blockers: Vec<&Polygon> = cand.iter().map(|&k| &ctx.polygons[k as usize]).collect();
+    let blockers = ctx.blockers(&cand);
     let visible = |y: Vec3| !ctx.vis.occluded(p, y, ignore);
     Ok(match m {
         VisMethod::Quadrature => {
@@ -764,6 +778,59 @@ fn kink_planes(a: &Polygon, receiver: &Polygon, blockers: &[&Polygon]) -> Kinks 
                     }
                 }
                 add(p0, n);
+            }
+        }
+    }
+    // Vertex-edge events: a blocker vertex's shadow crosses a receiver edge, or a blocker
+    // edge's shadow crosses a receiver vertex. The visible region's F has a jump in its second
+    // derivative there, which for nearly parallel edges happens over so short a stretch of the
+    // source that it acts as a kink. Each event happens along a segment of the source's plane
+    // (the trace of the edge, seen through the vertex): only events whose segment crosses the
+    // source count.
+    {
+        // Where the line from `from` through `via` meets the source's plane beyond `via`: Err
+        // with -1 if `via` is behind that plane, +1 if the line never gets there (unbounded).
+        let dist = |x: Vec3| na.dot(x - ca);
+        let trace = |from: Vec3, via: Vec3| -> std::result::Result<Vec3, i8> {
+            let (df, dv) = (dist(from), dist(via));
+            if dv <= 0.0 {
+                Err(-1)
+            } else if dv >= df {
+                Err(1)
+            } else {
+                Ok(from + (via - from) * (df / (df - dv)))
+            }
+        };
+        let mut event = |x0: std::result::Result<Vec3, i8>, x1: std::result::Result<Vec3, i8>, n: Vec3, q: Vec3| match (x0, x1) {
+            (Ok(x0), Ok(x1)) => {
+                let u = n.cross(na);
+                if u.length() > 0.0 {
+                    let u = u.normalize();
+                    let (lo, hi) = (u.dot(x0).min(u.dot(x1)), u.dot(x0).max(u.dot(x1)));
+                    let (slo, shi) = chord(q, n.normalize(), u);
+                    if hi > slo + tol && lo < shi - tol {
+                        add(q, n);
+                    }
+                }
+            }
+            // wholly behind the source or wholly beyond reach: no event
+            (Err(a), Err(b)) if a == b => {}
+            // partly unbounded (rare): keep the plane
+            _ => add(q, n),
+        };
+        let rec = receiver.vertices();
+        for b in blockers {
+            let bv = b.vertices();
+            for k in 0..bv.len() {
+                let (q0, q1) = (bv[k], bv[(k + 1) % bv.len()]);
+                for &r in rec {
+                    event(trace(r, q0), trace(r, q1), (q0 - r).cross(q1 - r), r);
+                }
+            }
+            for &(p0, p1) in &rec_edges {
+                for &q in bv {
+                    event(trace(p0, q), trace(p1, q), (p0 - q).cross(p1 - q), q);
+                }
             }
         }
     }

@@ -20,7 +20,7 @@ use crate::matrix::{flatten_pair_rows, full_rows, upper_pair_rows, PairBlock};
 use crate::method::{self, Method, Options, RuleCache};
 use crate::obstructed::{self, Context, Estimate, VisMethod, VisOptions};
 use crate::unobstructed_rows;
-use crate::visibility::Bvh;
+use crate::visibility::{Bvh, Occluders};
 use rayon::prelude::*;
 use std::str::FromStr;
 use std::sync::atomic::AtomicBool;
@@ -84,7 +84,10 @@ pub struct Scene {
     polygons: Vec<Polygon>,
     receiver: Vec<bool>,
     rules: RuleCache,
+    /// for the row methods, which need to know which polygon a ray hits
     bvh: OnceLock<Result<Bvh>>,
+    /// for the pair methods, which only ask whether something blocks
+    occluders: OnceLock<Result<(Occluders, Bvh)>>,
     convex: OnceLock<bool>,
     /// Each polygon's position in the Morton order of the centroids (see [`morton_ranks`]).
     ranks: OnceLock<Vec<u32>>,
@@ -136,7 +139,7 @@ impl Scene {
             return Err(Error::InvalidArgument(format!("{} polygons: at most 2^31 - 1 are supported", polygons.len())));
         }
         let rules = RuleCache::new(polygons.len());
-        Ok(Scene { polygons, receiver, rules, bvh: OnceLock::new(), convex: OnceLock::new(), ranks: OnceLock::new() })
+        Ok(Scene { polygons, receiver, rules, bvh: OnceLock::new(), occluders: OnceLock::new(), convex: OnceLock::new(), ranks: OnceLock::new() })
     }
 
     pub fn polygons(&self) -> &[Polygon] {
@@ -181,7 +184,12 @@ impl Scene {
     }
 
     fn context(&self) -> Result<Context<'_>> {
-        Ok(Context { polygons: &self.polygons, vis: self.bvh()?, rules: Some(&self.rules) })
+        let occ = self.occluders.get_or_init(|| {
+            let occ = Occluders::new(&self.polygons);
+            Bvh::new(&occ.polygons).map(|bvh| (occ, bvh))
+        });
+        let (occluders, vis) = occ.as_ref().map_err(|e| e.clone())?;
+        Ok(Context { polygons: &self.polygons, occluders, vis, rules: Some(&self.rules) })
     }
 
     /// G_ij = A_i F_ij for every row i in `rows` and receiver j > i (pair methods).
@@ -198,12 +206,13 @@ impl Scene {
                 Box::new(move |i, j| {
                     if let Some(ctx) = &ctx {
                         let mut cand = Vec::new();
-                        ctx.vis.candidates_between(&p[i], &p[j], &[i as u32, j as u32], &mut cand);
+                        let owner = &ctx.occluders.owner;
+                        ctx.vis.candidates_between(&p[i], &p[j], &[owner[i], owner[j]], &mut cand);
                         if !cand.is_empty() {
                             return Err(Error::InvalidArgument(format!(
                                 "polygons {i} and {j} may be partly hidden by polygon {}: method {:?} assumes \
                                  nothing is in between; use a method with visibility (auto, clipping, ...)",
-                                cand[0],
+                                ctx.occluders.member[cand[0] as usize],
                                 format!("{mm:?}").to_lowercase()
                             )));
                         }
@@ -278,7 +287,7 @@ impl Scene {
                                 hi = hi.max(*v);
                             }
                             let mut among = Vec::new();
-                            ctx.vis.candidates_toward_box(&p[i], lo, hi, &[i as u32], parent.as_deref(), &mut among);
+                            ctx.vis.candidates_toward_box(&p[i], lo, hi, &[ctx.occluders.owner[i]], parent.as_deref(), &mut among);
                             if among.is_empty() {
                                 continue;
                             }
@@ -396,7 +405,7 @@ pub fn point_view_factor(p: Vec3, n: Vec3, b: Polygon, obstacles: Vec<Polygon>, 
             let mut polys = vec![b];
             polys.extend(obstacles);
             let scene = Scene::new(polys, vec![true; 1 + n_obs])?;
-            obstructed::point(&scene.context()?, p, n, 0, &[0], vm, &o.vis)
+            obstructed::point(&scene.context()?, p, n, 0, vm, &o.vis)
         }
         AnyMethod::Row(rm) => {
             // The point becomes a tiny source patch sampled at its centroid (= p).
@@ -436,6 +445,7 @@ fn row_entry(row: &RowResult, j: u32) -> Estimate {
 mod tests {
     use super::*;
     use crate::hemisphere::testkit::room_with_crate;
+    use crate::visibility::Visibility;
 
     #[test]
     fn visible_rows_equal_the_pair_by_pair_estimates() {
@@ -487,5 +497,39 @@ mod tests {
             }
             assert!(pairs > 1000 && hidden > 100, "{m:?}: {pairs} pairs, {hidden} hidden");
         }
+    }
+
+    #[test]
+    fn joined_occluders_give_the_values_of_the_tiles() {
+        // Walls of 3 x 3 tiles and a crate of 3 x 3 tiles per face join into 12 occluders;
+        // obstructed pairs get the values that the tiles as separate blockers give.
+        let (polys, _) = room_with_crate(3, 3);
+        let n = polys.len();
+        let scene = Scene::new(polys.clone(), vec![true; n]).unwrap();
+        let ctx = scene.context().unwrap();
+        assert_eq!(ctx.occluders.polygons.len(), 12);
+        let ids: Vec<u32> = (0..n as u32).collect();
+        let tiles = Occluders { polygons: polys.clone(), owner: ids.clone(), member: ids };
+        let bvh = Bvh::new(&polys).unwrap();
+        let tile_ctx = Context { polygons: &polys, occluders: &tiles, vis: &bvh, rules: None };
+        let mut clip2 = VisOptions { clip_source: Some(2), ..Default::default() };
+        clip2.exact_tol = 1e-12;
+        let auto = VisOptions { tol: 1e-6, exact_tol: 1e-12, ..Default::default() };
+        let (mut checked, mut cand) = (0, Vec::new());
+        for i in (0..n).step_by(3) {
+            for j in (i + 1..n).step_by(5) {
+                bvh.candidates_between(&polys[i], &polys[j], &[i as u32, j as u32], &mut cand);
+                let free = method::area_factor(&polys[i], &polys[j], Method::Auto, &Options { tol: 1e-12, ..Default::default() }, None).unwrap();
+                if cand.is_empty() || free == 0.0 {
+                    continue;
+                }
+                for (m, o, tol) in [(VisMethod::Clipping, &clip2, 1e-12), (VisMethod::Auto, &auto, 2e-6)] {
+                    let (a, b) = (obstructed::pair(&ctx, i, j, m, o).unwrap().value, obstructed::pair(&tile_ctx, i, j, m, o).unwrap().value);
+                    assert!((a - b).abs() <= tol * free, "{m:?} pair {i} {j}: joined {a}, tiles {b}, free {free}");
+                }
+                checked += 1;
+            }
+        }
+        assert!(checked > 40, "{checked} obstructed pairs");
     }
 }

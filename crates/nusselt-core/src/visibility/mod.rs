@@ -5,9 +5,11 @@
 use crate::geometry::{Polygon, Vec3};
 
 pub mod bvh;
+pub mod occluders;
 pub mod shadow;
 
 pub use bvh::Bvh;
+pub use occluders::Occluders;
 
 /// Ids are indices into the scene's polygon list.
 pub trait Visibility: Sync {

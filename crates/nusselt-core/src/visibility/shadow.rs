@@ -11,7 +11,7 @@
 //! Blockers are opaque from both sides, whichever way they face (View3D ignores blockers that
 //! face the wrong way; reference-cases.md). Every tolerance is relative to the geometry.
 
-use crate::geometry::{clip_to_halfspace, newell_normal, tangent_frame, Polygon, Vec3};
+use crate::geometry::{clip_to_halfspace, join_convex, newell_normal, tangent_frame, Polygon, Vec3};
 use std::borrow::Cow;
 use std::cell::RefCell;
 use i_overlay::core::fill_rule::FillRule;
@@ -377,34 +377,11 @@ fn merge_adjacent(shadows: &mut Vec<Cow<'_, [[f64; 2]]>>, boxes: &mut Vec<([f64;
 /// The union of the convex counter-clockwise polygons s and t if they share an edge and the
 /// union is convex, without the vertices left straight at the joint.
 fn join(s: &[[f64; 2]], t: &[[f64; 2]]) -> Option<Vec<[f64; 2]>> {
-    let (m, l) = (s.len(), t.len());
-    for i in 0..m {
-        let (u, v) = (s[i], s[(i + 1) % m]);
-        for j in 0..l {
-            if t[j] != v || t[(j + 1) % l] != u {
-                continue;
-            }
-            // s from v round to u, then t after u round to before v
-            let mut out: Vec<[f64; 2]> = (1..=m).map(|k| s[(i + k) % m]).collect();
-            out.extend((2..l).map(|k| t[(j + k) % l]));
-            if !is_convex(&out) {
-                return None;
-            }
-            // drop straight vertices (the joint's ends, when the union continues an edge)
-            let mut k = 0;
-            while k < out.len() && out.len() > 3 {
-                let n = out.len();
-                let (cross, scale) = turn(out[(k + n - 1) % n], out[k], out[(k + 1) % n]);
-                if cross.abs() <= 1e-14 * scale {
-                    out.remove(k);
-                } else {
-                    k += 1;
-                }
-            }
-            return Some(out);
-        }
-    }
-    None
+    let turn = |a: [f64; 2], b: [f64; 2], c: [f64; 2]| {
+        let (cross, scale) = turn(a, b, c);
+        (cross, (b[0] - a[0]) * (c[0] - b[0]) + (b[1] - a[1]) * (c[1] - b[1]), scale)
+    };
+    join_convex(s, t, turn, 1e-14)
 }
 
 /// Appends to `out` the convex pieces of q \ t (q and t convex, counter-clockwise): for each
