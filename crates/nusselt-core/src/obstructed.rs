@@ -16,7 +16,7 @@ use crate::geometry::{clip_to_halfspace, Polygon, Vec3};
 use crate::method::{self, Method, RuleCache};
 use crate::quadrature::AreaRule;
 use crate::sampling::{hash_seed, sobol4, PolygonSampler};
-use crate::visibility::shadow::{point_free_and_shadowed, point_shadowed_view_factor, point_visible_view_factor};
+use crate::visibility::shadow::{hides_whole, point_free_and_shadowed, point_shadowed_view_factor, point_visible_view_factor};
 use crate::visibility::{Occluders, Visibility};
 use std::f64::consts::PI;
 
@@ -240,6 +240,9 @@ pub fn pair_with(ctx: &Context, i: usize, j: usize, m: VisMethod, o: &VisOptions
         });
     }
     let blockers = ctx.blockers(&cand);
+    if blockers.iter().any(|k| hides_whole(sa.vertices(), sb.vertices(), k)) {
+        return Ok(Estimate::exact(0.0));
+    }
     let visible = |x: Vec3, y: Vec3| !ctx.vis.occluded(x, y, &ignore);
     Ok(match m {
         VisMethod::Quadrature => {
@@ -347,6 +350,9 @@ pub fn point(ctx: &Context, p: Vec3, n: Vec3, j: usize, m: VisMethod, o: &VisOpt
         return Ok(Estimate::exact(lambert));
     }
     let blockers = ctx.blockers(&cand);
+    if blockers.iter().any(|k| hides_whole(&[p], b.vertices(), k)) {
+        return Ok(Estimate::exact(0.0));
+    }
     let visible = |y: Vec3| !ctx.vis.occluded(p, y, ignore);
     Ok(match m {
         VisMethod::Quadrature => {

@@ -503,6 +503,39 @@ fn overlap(a: ([f64; 2], [f64; 2]), b: ([f64; 2], [f64; 2])) -> bool {
     a.0[0] <= b.1[0] && a.0[1] <= b.1[1] && b.0[0] <= a.1[0] && b.0[1] <= a.1[1]
 }
 
+/// True if `blocker` alone hides every point of the convex hull of `target` from every point
+/// of the convex hull of `source` (vertex lists): the blocker is convex, the two lie strictly
+/// on opposite sides of its plane, and every segment between their vertices crosses the plane
+/// strictly inside the blocker. That suffices: from a fixed source point the crossings of the
+/// segments to the target are its central projection, the convex hull of the vertices'
+/// crossings; the same holds from a fixed target point towards the source.
+pub fn hides_whole(source: &[Vec3], target: &[Vec3], blocker: &Polygon) -> bool {
+    let (v, n) = (blocker.vertices(), blocker.normal());
+    let m = v.len();
+    let margin = 1e-9 * blocker.radius();
+    let edge = |k: usize| (v[k], v[(k + 1) % m] - v[k]);
+    // convex: every turn to the left about n (collinear vertices allowed)
+    if (0..m).any(|k| edge(k).1.cross(edge((k + 1) % m).1).dot(n) < -margin * margin) {
+        return false;
+    }
+    let height = |x: &Vec3| n.dot(*x - v[0]);
+    let side = height(&source[0]);
+    let strictly = |x: &Vec3, s: f64| height(x) * s.signum() > margin;
+    if !(side.abs() > margin) || !source.iter().all(|x| strictly(x, side)) || !target.iter().all(|y| strictly(y, -side)) {
+        return false;
+    }
+    source.iter().all(|&x| {
+        target.iter().all(|&y| {
+            let (hx, hy) = (height(&x), height(&y));
+            let c = x + (y - x) * (hx / (hx - hy));
+            (0..m).all(|k| {
+                let (q, e) = edge(k);
+                e.cross(c - q).dot(n) > margin * e.length()
+            })
+        })
+    })
+}
+
 /// Exact view factor from the differential area at `p` (unit normal `n`) to the part of
 /// `receiver` visible from it past `blockers` (opaque from both sides): Lambert's contour
 /// formula summed over the contours of [`visible_part`] (holes subtract). 0 when nothing is

@@ -479,3 +479,67 @@ fn edge_adjacent_shadows_join_where_the_union_is_convex() {
     let (fast, slow) = (shadowed_convex(P, DOWN, &c).unwrap(), shadowed_boolean(P, DOWN, &c));
     assert!((fast - slow).abs() < 1e-14 && slow > 0.1, "{fast} vs {slow}");
 }
+
+/// `hides_whole` against segment sampling: whenever it says a blocker hides a target
+/// triangle from a source triangle, random segments between them all hit the blocker, and
+/// the exact visible F from random source points is 0; its cases are common enough to matter.
+#[test]
+fn hides_whole_only_when_every_segment_is_blocked() {
+    let mut rng = Rng::new(7);
+    let tri = |rng: &mut Rng, z: f64, s: f64| -> Vec<Vec3> {
+        let c = Vec3::new(rng.range(-0.5, 0.5), rng.range(-0.5, 0.5), z);
+        (0..3).map(|_| c + s * Vec3::new(rng.range(-1., 1.), rng.range(-1., 1.), rng.range(-0.2, 0.2))).collect()
+    };
+    let (mut hidden, mut open) = (0, 0);
+    for case in 0..400 {
+        let src = tri(&mut rng, 0.0, 0.3);
+        let dst = tri(&mut rng, 2.0, 0.3);
+        // a tilted regular polygon (3 to 6 corners) between them
+        let c = Vec3::new(rng.range(-0.3, 0.3), rng.range(-0.3, 0.3), rng.range(0.6, 1.4));
+        let nb = (Vec3::Z + 0.5 * rng.unit()).normalize();
+        let (t, u) = crate::geometry::tangent_frame(nb);
+        let (m, r, ph) = (3 + (rng.f() * 4.0) as usize, rng.range(0.3, 1.2), rng.f());
+        let b = Polygon::new((0..m).map(|k| {
+            let a = std::f64::consts::TAU * (k as f64 + ph) / m as f64;
+            c + r * (a.cos() * t + a.sin() * u)
+        }).collect()).unwrap();
+        if !hides_whole(&src, &dst, &b) {
+            open += 1;
+            continue;
+        }
+        hidden += 1;
+        let dst_poly = Polygon::new(dst.clone()).unwrap();
+        for _ in 0..200 {
+            let w = |rng: &mut Rng, v: &[Vec3]| {
+                let (a, c) = (rng.f(), rng.f());
+                let (a, c) = if a + c > 1.0 { (1.0 - a, 1.0 - c) } else { (a, c) };
+                v[0] + a * (v[1] - v[0]) + c * (v[2] - v[0])
+            };
+            let (x, y) = (w(&mut rng, &src), w(&mut rng, &dst));
+            assert!(ray_polygon(&b, x, y - x).is_some_and(|t| t > 0.0 && t < 1.0), "case {case}: segment {x} -> {y} passes");
+        }
+        let x = src[0] + 0.3 * (src[1] - src[0]) + 0.3 * (src[2] - src[0]);
+        let n = (dst_poly.centroid() - x).normalize();
+        assert_eq!(point_visible_view_factor(x, n, &dst_poly, &[&b]), 0.0, "case {case}");
+    }
+    assert!(hidden > 30 && open > 30, "{hidden} hidden, {open} open");
+}
+
+/// A U-shaped (concave) blocker can catch every vertex-to-vertex segment while the notch lets
+/// the middle through: never "hidden". The same outline's convex hull does hide.
+#[test]
+fn hides_whole_needs_a_convex_blocker() {
+    let u = poly(&[[-2., -2., 1.], [2., -2., 1.], [2., 2., 1.], [0.5, 2., 1.], [0.5, 0., 1.], [-0.5, 0., 1.], [-0.5, 2., 1.], [-2., 2., 1.]]);
+    let p = [Vec3::ZERO];
+    // target corners project to (+-0.8, +-0.8) in the blocker's plane: all in the U, the
+    // target's centre line (0, 0.8) in the notch
+    let target: Vec<Vec3> = [[-1.6, -1.6], [1.6, -1.6], [1.6, 1.6], [-1.6, 1.6]].iter().map(|c| Vec3::new(c[0], c[1], 2.0)).collect();
+    assert!(ray_polygon(&u, p[0], Vec3::new(0.0, 1.6, 2.0)).is_none());
+    assert!(!hides_whole(&p, &target, &u));
+    let hull = poly(&[[-2., -2., 1.], [2., -2., 1.], [2., 2., 1.], [-2., 2., 1.]]);
+    assert!(hides_whole(&p, &target, &hull));
+    // a source straddling the blocker's plane, or a target reaching past its outline: not hidden
+    assert!(!hides_whole(&[Vec3::ZERO, Vec3::new(0.0, 0.0, 1.5)], &target, &hull));
+    let wide: Vec<Vec3> = target.iter().map(|v| Vec3::new(4.2 * v.x / 1.6, v.y, 2.0)).collect();
+    assert!(!hides_whole(&p, &wide, &hull));
+}
