@@ -267,7 +267,7 @@ pub fn pair_with(ctx: &Context, i: usize, j: usize, m: VisMethod, o: &VisOptions
                 Some(k) => source_points(sa, k),
                 None => {
                     let r7 = radon7();
-                    split_at_kinks(sa, b, &blockers, MAX_KINK_PIECES).iter().flat_map(|t| rule_points(&r7, t)).collect()
+                    split_at_kinks(sa, b, &blockers).iter().flat_map(|t| rule_points(&r7, t)).collect()
                 }
             };
             for (x, w) in points {
@@ -291,7 +291,7 @@ pub fn pair_with(ctx: &Context, i: usize, j: usize, m: VisMethod, o: &VisOptions
                         return Ok(Estimate::exact(0.0));
                     }
                     let shadowed = |x: Vec3, bl: &[&Polygon]| point_shadowed_view_factor(x, a.normal(), b, bl);
-                    let start = split_at_kinks(sa, b, &blockers, kink_pieces(o.tol));
+                    let start = split_at_kinks(sa, b, &blockers);
                     let test = ShadowTest::new(sb, &blockers);
                     let hidden = adaptive_over_source(&start, &blockers, &shadowed, &test, o.tol * free, o);
                     Estimate::exact((free - hidden).clamp(0.0, free))
@@ -561,18 +561,20 @@ fn rule_integral(rule: &[([f64; 3], f64)], t: &[Vec3; 3], f: &dyn Fn(Vec3) -> f6
 
 /// Relative targets from which the adaptive source integration computes a start piece's
 /// children only when the piece needs refining; until then its error estimate is twice the
-/// difference between the rule and the centroid rule (4 evaluations instead of 15). At 1e-3
-/// that missed a shadow on one of 300 room pairs (error 1.3e-3 of the unobstructed F); at
-/// 1e-2 the largest error was 1.3e-3 at a quarter of the time of the full start.
+/// difference between the rule and the centroid rule (4 evaluations instead of 15). 300
+/// obstructed room pairs (`obstructed_schemes`, 9/15/21 quads per wall edge) at tol 1e-2:
+/// largest error 1.0e-4/1.7e-4/4.1e-5 of the unobstructed F in 41/25/17 us per pair, against
+/// 8.7e-6/1.6e-5/4.3e-6 in 114/65/42 us with the full start.
 const COARSE_START_TOL: f64 = 1e-2;
 
 /// Relative targets from which the adaptive source integration uses Strang and Fix's
 /// interior 3-point rule (degree 2) instead of Radon's 7 points (degree 5). The source is cut
-/// at its kinks first, so the integrand is smooth on every piece and degree 2 meets such
-/// targets with less than half the evaluations (room of bench/obstructed.py, 300 obstructed
-/// pairs at tol 1e-4: 293 instead of 657 evaluations per pair, largest error 6.8e-5 of the
-/// unobstructed F; at 1e-5 the 3-point rule missed its target, so it stops here).
-const LOW_DEGREE_TOL: f64 = 1e-4;
+/// at its kinks and vertex-edge events first, so the integrand is smooth on every piece and
+/// degree 2 meets such targets with fewer evaluations (300 obstructed room pairs,
+/// `obstructed_schemes`, 9/15/21 quads per wall edge, at tol 1e-6: largest error
+/// 2.2e-7/2.2e-7/1.9e-7 of the unobstructed F in 194/96/54 us per pair, against
+/// 6.5e-8/2.6e-8/7.2e-8 in 232/128/84 us with Radon's rule).
+const LOW_DEGREE_TOL: f64 = 1e-6;
 
 /// The triangle rule of the adaptive source integration for a relative target `tol`.
 fn source_rule(tol: f64) -> Vec<([f64; 3], f64)> {
@@ -631,19 +633,6 @@ impl<'a> ShadowTest<'a> {
 /// Most pieces the kink split may cut a source into.
 const MAX_KINK_PIECES: usize = 64;
 
-/// Most kink pieces of `clipping` from [`COARSE_START_TOL`] on. The coarse start spends 4
-/// evaluations per piece, nearly all an integral costs at such targets. 300 obstructed pairs
-/// of the room of bench/obstructed.py at tol 1e-2, largest error relative to the
-/// unobstructed F with 8 pieces against 64 (`obstructed_schemes`, three mesh sizes): 2.2e-3
-/// against 1.3e-3 (9 quads per wall edge), 3.9e-3 against 3.9e-3 (15), 4.1e-3 against 1.6e-3
-/// (21), in 780-800 instead of 1300 us per pair.
-const COARSE_KINK_PIECES: usize = 8;
-
-/// Most kink pieces of the adaptive source integration for a relative target `tol`.
-fn kink_pieces(tol: f64) -> usize {
-    if tol >= COARSE_START_TOL { COARSE_KINK_PIECES } else { MAX_KINK_PIECES }
-}
-
 /// The source's triangles, cut along the lines where the visible-region F has a kink that
 /// the dyadic refinement would otherwise chase without end (an O(h^2) error instead of the
 /// degree-5 rule's fast convergence on smooth pieces):
@@ -651,15 +640,20 @@ fn kink_pieces(tol: f64) -> usize {
 ///   silhouette switches edges (the strongest kink);
 /// - the plane through a receiver edge and a parallel blocker edge: there the shadow's edge
 ///   slides over the receiver's edge and the clipped area changes slope. Parallel edges are
-///   the rule in architectural and meshed scenes.
-/// Other event lines (shadow vertices crossing edges) make only the second derivative jump.
-fn split_at_kinks(a: &Polygon, receiver: &Polygon, blockers: &[&Polygon], most: usize) -> Vec<[Vec3; 3]> {
+///   the rule in architectural and meshed scenes;
+/// - then the vertex-edge events (a shadow vertex crosses a receiver edge, a shadow edge a
+///   receiver vertex; discontinuity meshing's D2 lines) whose trace crosses the source. Only
+///   the second derivative jumps there, but for nearly parallel edges the slope changes
+///   within a strip so thin that the error estimate cannot see it (before these cuts, 300
+///   room pairs of `obstructed_schemes` at tol 1e-3 had errors up to 1.6e-3 of the
+///   unobstructed F, at 1e-6 up to 4.7e-6; with them 1.6e-5 and 7e-8).
+fn split_at_kinks(a: &Polygon, receiver: &Polygon, blockers: &[&Polygon]) -> Vec<[Vec3; 3]> {
     let kinks = kink_planes(a, receiver, blockers);
     let v = a.vertices();
     let mut pieces: Vec<Vec<Vec3>> = a.triangulate().iter().map(|t| vec![v[t[0]], v[t[1]], v[t[2]]]).collect();
     let (mut lo, mut hi) = (Vec::new(), Vec::new());
     for &(q, n) in &kinks.planes {
-        if pieces.len() >= most {
+        if pieces.len() >= MAX_KINK_PIECES {
             break;
         }
         let mut next = Vec::with_capacity(pieces.len() + 4);
