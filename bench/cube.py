@@ -2,7 +2,8 @@
 
 For each n, nusselt (method `auto`, at several accuracy targets `tol`) and, for small n,
 pyviewfactor (from PyPI) compute the full matrix in a fresh subprocess each, so that the peak
-memory (max RSS) belongs to that run alone. Reported: wall and CPU time, peak memory, pairs/s,
+memory (max RSS, read as soon as the matrix is computed) belongs to that run alone. Reported:
+wall and CPU time, peak memory, pairs/s,
 max |row sum - 1|, max relative reciprocity error and the error of the face-to-face sums
 against the closed forms (Howell C-11, C-14).
 
@@ -70,8 +71,9 @@ def run_nusselt(n: int, tol: float) -> dict:
     t0, c0 = time.perf_counter(), time.process_time()
     res = nusselt.form_factors(scene, method="auto", tol=tol)
     wall, cpu = time.perf_counter() - t0, time.process_time() - c0
+    peak = peak_mb()
     f = res.dense()
-    return {"wall_s": wall, "cpu_s": cpu, **errors(f, res.areas, which)}
+    return {"wall_s": wall, "cpu_s": cpu, "peak_mb": peak, **errors(f, res.areas, which)}
 
 
 def run_pyviewfactor(n: int) -> dict:
@@ -86,8 +88,9 @@ def run_pyviewfactor(n: int) -> dict:
     t0, c0 = time.perf_counter(), time.process_time()
     f = pvf.compute_viewfactor_matrix(mesh, skip_obstruction=True).T  # theirs: F[i, j] = F(j -> i)
     wall, cpu = time.perf_counter() - t0, time.process_time() - c0
+    peak = peak_mb()
     areas = np.array([np.linalg.norm(np.cross(p[2] - p[0], p[3] - p[1])) / 2 for p in polys])
-    return {"wall_s": wall, "cpu_s": cpu, **errors(np.asarray(f), areas, which)}
+    return {"wall_s": wall, "cpu_s": cpu, "peak_mb": peak, **errors(np.asarray(f), areas, which)}
 
 
 def cube_faces_mesh(n):
@@ -97,9 +100,14 @@ def cube_faces_mesh(n):
     return pts, faces
 
 
+def peak_mb() -> float:
+    """Peak memory of this process so far (max RSS), taken right after the computation: the
+    error analysis that follows works on dense copies of the matrix."""
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+
+
 def child(args) -> None:
     out = run_nusselt(args.n[0], args.tol[0]) if args.tool == "nusselt" else run_pyviewfactor(args.n[0])
-    out["peak_mb"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
     print(json.dumps(out))
 
 
@@ -124,7 +132,13 @@ def main() -> None:
             cmd = [sys.executable, __file__, "--child", tool, "--n", str(n)]
             if tol is not None:
                 cmd += ["--tol", str(tol)]
-            r = json.loads(subprocess.run(cmd, check=True, capture_output=True, text=True).stdout.splitlines()[-1])
+            run = subprocess.run(cmd, capture_output=True, text=True)
+            if run.returncode != 0:
+                last = (run.stderr.strip().splitlines() or ["no output"])[-1]
+                hint = " (pip install '.[bench]')" if "No module named" in last else ""
+                print(f"{tool:14s} {n:3d} failed: {last}{hint}", flush=True)
+                continue
+            r = json.loads(run.stdout.splitlines()[-1])
             npatch = 6 * n * n
             pairs = npatch * (npatch - 1) / 2
             print(f"{tool:14s} {n:3d} {npatch:7d} {tol if tol else '-':>7} {r['wall_s']:8.2f} {r['cpu_s']:8.2f}"
