@@ -397,13 +397,25 @@ pub fn far_pair(a: &PackedRule, na: Vec3, b: &PackedRule, nb: Vec3) -> f64 {
 /// Lane groups of b per chunk of [`far_pair`] (a Gauss rule of order 8 on a quad is 16).
 const FAR_CHUNK: usize = 16;
 
-/// [`far_pair_body`] written out in AVX2 intrinsics: the compiler's own vectorisation of the
-/// body uses half-width registers and a dependency chain per pair of lanes. Lane for lane
-/// the same operations in the same order (no FMA), so the results are identical.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
 unsafe fn far_pair_avx2(a: &PackedRule, na: Vec3, b: &PackedRule, nb: Vec3) -> f64 {
-    use std::arch::x86_64::*;
+    // SAFETY: this function only runs where the CPU supports AVX2.
+    far_pair_with(a, na, b, nb, |cx, cy, cz, bw, x| unsafe { lane_sums_avx2(cx, cy, cz, bw, x) })
+}
+
+fn far_pair_body(a: &PackedRule, na: Vec3, b: &PackedRule, nb: Vec3) -> f64 {
+    far_pair_with(a, na, b, nb, lane_sums)
+}
+
+/// The lane groups of one chunk of b: x, y, z and w_l ca_l per lane.
+type Groups<'g> = &'g [[f64; LANES]];
+
+/// [`far_pair`] with `sums(x, y, z, w ca, point)` giving, per lane, the sum over the chunk's
+/// lane groups of w_l ca_l / |y_l - point|⁴.
+#[inline(always)]
+fn far_pair_with(a: &PackedRule, na: Vec3, b: &PackedRule, nb: Vec3, sums: impl Fn(Groups, Groups, Groups, Groups, Vec3) -> [f64; LANES]) -> f64 {
+    // b's points in chunks of FAR_CHUNK lane groups: w_l * ca_l on the stack per chunk
     let (bx, by, bz, bwt) = (b.x.as_chunks::<LANES>().0, b.y.as_chunks::<LANES>().0, b.z.as_chunks::<LANES>().0, b.w.as_chunks::<LANES>().0);
     let mut total = 0.0;
     let mut bw = [[0.0f64; LANES]; FAR_CHUNK];
@@ -417,23 +429,9 @@ unsafe fn far_pair_avx2(a: &PackedRule, na: Vec3, b: &PackedRule, nb: Vec3) -> f
             }
         }
         for k in 0..a.len {
-            let (xx, xy, xz) = (a.x[k], a.y[k], a.z[k]);
-            let cb = (nb.x * xx + nb.y * xy + nb.z * xz - b.offset).max(0.0);
-            // SAFETY: every load reads one [f64; 4] lane group of a slice in bounds.
-            let acc = unsafe {
-                let (vx, vy, vz) = (_mm256_set1_pd(xx), _mm256_set1_pd(xy), _mm256_set1_pd(xz));
-                let mut acc = _mm256_setzero_pd();
-                for g in 0..m {
-                    let dx = _mm256_sub_pd(_mm256_loadu_pd(cx[g].as_ptr()), vx);
-                    let dy = _mm256_sub_pd(_mm256_loadu_pd(cy[g].as_ptr()), vy);
-                    let dz = _mm256_sub_pd(_mm256_loadu_pd(cz[g].as_ptr()), vz);
-                    let r2 = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy)), _mm256_mul_pd(dz, dz));
-                    acc = _mm256_add_pd(acc, _mm256_div_pd(_mm256_loadu_pd(bw[g].as_ptr()), _mm256_mul_pd(r2, r2)));
-                }
-                let mut out = [0.0f64; LANES];
-                _mm256_storeu_pd(out.as_mut_ptr(), acc);
-                out
-            };
+            let x = Vec3::new(a.x[k], a.y[k], a.z[k]);
+            let cb = (nb.x * x.x + nb.y * x.y + nb.z * x.z - b.offset).max(0.0);
+            let acc = sums(cx, cy, cz, &bw[..m], x);
             total += a.w[k] * cb * ((acc[0] + acc[1]) + (acc[2] + acc[3]));
         }
     }
@@ -441,36 +439,39 @@ unsafe fn far_pair_avx2(a: &PackedRule, na: Vec3, b: &PackedRule, nb: Vec3) -> f
 }
 
 #[inline(always)]
-fn far_pair_body(a: &PackedRule, na: Vec3, b: &PackedRule, nb: Vec3) -> f64 {
-    // b's points in chunks of FAR_CHUNK lane groups: w_l * ca_l on the stack per chunk
-    const CHUNK: usize = FAR_CHUNK;
-    let (bx, by, bz, bwt) = (b.x.as_chunks::<LANES>().0, b.y.as_chunks::<LANES>().0, b.z.as_chunks::<LANES>().0, b.w.as_chunks::<LANES>().0);
-    let mut total = 0.0;
-    let mut bw = [[0.0f64; LANES]; CHUNK];
-    for start in (0..bx.len()).step_by(CHUNK) {
-        let m = (bx.len() - start).min(CHUNK);
-        let (cx, cy, cz) = (&bx[start..start + m], &by[start..start + m], &bz[start..start + m]);
-        for (g, out) in bw[..m].iter_mut().enumerate() {
-            for l in 0..LANES {
-                let ca = na.x * cx[g][l] + na.y * cy[g][l] + na.z * cz[g][l] - a.offset;
-                out[l] = bwt[start + g][l] * ca.max(0.0);
-            }
-        }
-        for k in 0..a.len {
-            let (xx, xy, xz) = (a.x[k], a.y[k], a.z[k]);
-            let cb = (nb.x * xx + nb.y * xy + nb.z * xz - b.offset).max(0.0);
-            let mut acc = [0.0f64; LANES];
-            for (((px, py), pz), pw) in cx.iter().zip(cy).zip(cz).zip(&bw[..m]) {
-                for l in 0..LANES {
-                    let (dx, dy, dz) = (px[l] - xx, py[l] - xy, pz[l] - xz);
-                    let r2 = dx * dx + dy * dy + dz * dz;
-                    acc[l] += pw[l] / (r2 * r2);
-                }
-            }
-            total += a.w[k] * cb * ((acc[0] + acc[1]) + (acc[2] + acc[3]));
+fn lane_sums(cx: Groups, cy: Groups, cz: Groups, bw: Groups, x: Vec3) -> [f64; LANES] {
+    let mut acc = [0.0f64; LANES];
+    for (((px, py), pz), pw) in cx.iter().zip(cy).zip(cz).zip(bw) {
+        for l in 0..LANES {
+            let (dx, dy, dz) = (px[l] - x.x, py[l] - x.y, pz[l] - x.z);
+            let r2 = dx * dx + dy * dy + dz * dz;
+            acc[l] += pw[l] / (r2 * r2);
         }
     }
-    total / PI
+    acc
+}
+
+/// [`lane_sums`] in AVX2 intrinsics: the compiler's own vectorisation of it uses half-width
+/// registers and a dependency chain per pair of lanes (twice the time). Lane for lane the
+/// same operations in the same order (no FMA), so the results are identical.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+#[inline]
+unsafe fn lane_sums_avx2(cx: Groups, cy: Groups, cz: Groups, bw: Groups, x: Vec3) -> [f64; LANES] {
+    use std::arch::x86_64::*;
+    let (vx, vy, vz) = (_mm256_set1_pd(x.x), _mm256_set1_pd(x.y), _mm256_set1_pd(x.z));
+    let mut acc = _mm256_setzero_pd();
+    for (((px, py), pz), pw) in cx.iter().zip(cy).zip(cz).zip(bw) {
+        // SAFETY: each load reads one whole [f64; 4].
+        let (px, py, pz, pw) = unsafe { (_mm256_loadu_pd(px.as_ptr()), _mm256_loadu_pd(py.as_ptr()), _mm256_loadu_pd(pz.as_ptr()), _mm256_loadu_pd(pw.as_ptr())) };
+        let (dx, dy, dz) = (_mm256_sub_pd(px, vx), _mm256_sub_pd(py, vy), _mm256_sub_pd(pz, vz));
+        let r2 = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy)), _mm256_mul_pd(dz, dz));
+        acc = _mm256_add_pd(acc, _mm256_div_pd(pw, _mm256_mul_pd(r2, r2)));
+    }
+    let mut out = [0.0f64; LANES];
+    // SAFETY: out is one whole [f64; 4].
+    unsafe { _mm256_storeu_pd(out.as_mut_ptr(), acc) };
+    out
 }
 
 /// Calibrated worst-case relative errors (rows: FAR_SEPS; columns: orders 1..=MAX_FAR_ORDER),
