@@ -80,6 +80,22 @@ def test_point_with_coaxial_blocker(method):
 
 
 @pytest.mark.parametrize("method", EXACT_METHODS)
+@pytest.mark.parametrize("k,mixed", [(2, False), (5, False), (4, True)])
+def test_meshed_blocker_blocks_like_one_polygon(method, k, mixed, blocked_plates_exact):
+    # the blocker cut into k x k tiles (joined into one occluder internally), or with every
+    # other tile facing the other way (then they stay separate blockers): the same exact F
+    t = np.linspace(0.25, 0.75, k + 1)
+    tiles = [rect(t[a], t[a + 1], t[b], t[b + 1], z=0.5, flip=mixed and (a + b) % 2 == 1)
+             for a in range(k) for b in range(k)]
+    f = nusselt.view_factor(EMITTER, RECEIVER, obstacles=tiles, method=method)
+    assert f == pytest.approx(blocked_plates_exact, abs=1e-6)
+    # a wall of tiles hiding everything gives exactly 0
+    t = np.linspace(-1, 2, k + 1)
+    wall = [rect(t[a], t[a + 1], t[b], t[b + 1], z=0.5) for a in range(k) for b in range(k)]
+    assert nusselt.view_factor(EMITTER, RECEIVER, obstacles=wall, method=method) == 0.0
+
+
+@pytest.mark.parametrize("method", EXACT_METHODS)
 def test_fully_hidden_and_irrelevant_blockers(method):
     big = rect(-1, 2, -1, 2, z=0.5)
     assert nusselt.view_factor(EMITTER, RECEIVER, obstacles=[big], method=method) == pytest.approx(0, abs=1e-12)
