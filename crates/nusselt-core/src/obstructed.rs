@@ -83,6 +83,9 @@ pub struct VisOptions {
     pub control_variate: bool,
     /// `adaptive` / `clipping`: deepest refinement level.
     pub max_depth: usize,
+    /// `clipping`: most point evaluations of one adaptive source integral (reaching it ends
+    /// the refinement before `tol` is met; default [`MAX_SOURCE_EVALS`]).
+    pub max_evals: usize,
 }
 
 impl Default for VisOptions {
@@ -99,6 +102,7 @@ impl Default for VisOptions {
             clip_source: None,
             control_variate: true,
             max_depth: 12,
+            max_evals: MAX_SOURCE_EVALS,
         }
     }
 }
@@ -129,6 +133,9 @@ impl VisOptions {
         }
         if !(1..=16).contains(&self.max_depth) {
             return bad("max_depth must be in 1..=16");
+        }
+        if self.max_evals < 1 {
+            return bad("max_evals must be at least 1");
         }
         Ok(())
     }
@@ -947,7 +954,7 @@ fn adaptive_over_source(
     }
     let mut total_err: f64 = heap.iter().map(|l| l.err).sum();
     let mut done = Vec::new(); // leaves at the depth limit
-    while total_err > goal && evals.get() < MAX_SOURCE_EVALS {
+    while total_err > goal && evals.get() < o.max_evals {
         let Some(mut worst) = heap.pop() else { break };
         total_err -= worst.err;
         let Some(kids) = worst.kids else {
