@@ -401,7 +401,7 @@ const FAR_CHUNK: usize = 16;
 #[target_feature(enable = "avx2")]
 unsafe fn far_pair_avx2(a: &PackedRule, na: Vec3, b: &PackedRule, nb: Vec3) -> f64 {
     // SAFETY: this function only runs where the CPU supports AVX2.
-    far_pair_with(a, na, b, nb, |cx, cy, cz, bw, x| unsafe { lane_sums_avx2(cx, cy, cz, bw, x) })
+    far_pair_with(a, na, b, nb, |cx, cy, cz, bw, x, s, tot| unsafe { lane_sums_avx2(cx, cy, cz, bw, x, s, tot) })
 }
 
 fn far_pair_body(a: &PackedRule, na: Vec3, b: &PackedRule, nb: Vec3) -> f64 {
@@ -411,13 +411,14 @@ fn far_pair_body(a: &PackedRule, na: Vec3, b: &PackedRule, nb: Vec3) -> f64 {
 /// The lane groups of one chunk of b: x, y, z and w_l ca_l per lane.
 type Groups<'g> = &'g [[f64; LANES]];
 
-/// [`far_pair`] with `sums(x, y, z, w ca, point)` giving, per lane, the sum over the chunk's
-/// lane groups of w_l ca_l / |y_l - point|⁴.
+/// [`far_pair`] with `sums(x, y, z, w ca, point, s, tot)` adding, per lane, s times the sum
+/// over the chunk's lane groups of w_l ca_l / |y_l - point|⁴ to `tot` (one sum per lane until
+/// the end: a horizontal sum per point of a was the loop's longest dependency chain).
 #[inline(always)]
-fn far_pair_with(a: &PackedRule, na: Vec3, b: &PackedRule, nb: Vec3, sums: impl Fn(Groups, Groups, Groups, Groups, Vec3) -> [f64; LANES]) -> f64 {
+fn far_pair_with(a: &PackedRule, na: Vec3, b: &PackedRule, nb: Vec3, sums: impl Fn(Groups, Groups, Groups, Groups, Vec3, f64, &mut [f64; LANES])) -> f64 {
     // b's points in chunks of FAR_CHUNK lane groups: w_l * ca_l on the stack per chunk
     let (bx, by, bz, bwt) = (b.x.as_chunks::<LANES>().0, b.y.as_chunks::<LANES>().0, b.z.as_chunks::<LANES>().0, b.w.as_chunks::<LANES>().0);
-    let mut total = 0.0;
+    let mut tot = [0.0f64; LANES];
     let mut bw = [[0.0f64; LANES]; FAR_CHUNK];
     for start in (0..bx.len()).step_by(FAR_CHUNK) {
         let m = (bx.len() - start).min(FAR_CHUNK);
@@ -431,15 +432,14 @@ fn far_pair_with(a: &PackedRule, na: Vec3, b: &PackedRule, nb: Vec3, sums: impl 
         for k in 0..a.len {
             let x = Vec3::new(a.x[k], a.y[k], a.z[k]);
             let cb = (nb.x * x.x + nb.y * x.y + nb.z * x.z - b.offset).max(0.0);
-            let acc = sums(cx, cy, cz, &bw[..m], x);
-            total += a.w[k] * cb * ((acc[0] + acc[1]) + (acc[2] + acc[3]));
+            sums(cx, cy, cz, &bw[..m], x, a.w[k] * cb, &mut tot);
         }
     }
-    total / PI
+    ((tot[0] + tot[1]) + (tot[2] + tot[3])) / PI
 }
 
 #[inline(always)]
-fn lane_sums(cx: Groups, cy: Groups, cz: Groups, bw: Groups, x: Vec3) -> [f64; LANES] {
+fn lane_sums(cx: Groups, cy: Groups, cz: Groups, bw: Groups, x: Vec3, s: f64, tot: &mut [f64; LANES]) {
     let mut acc = [0.0f64; LANES];
     for (((px, py), pz), pw) in cx.iter().zip(cy).zip(cz).zip(bw) {
         for l in 0..LANES {
@@ -448,7 +448,9 @@ fn lane_sums(cx: Groups, cy: Groups, cz: Groups, bw: Groups, x: Vec3) -> [f64; L
             acc[l] += pw[l] / (r2 * r2);
         }
     }
-    acc
+    for l in 0..LANES {
+        tot[l] += s * acc[l];
+    }
 }
 
 /// [`lane_sums`] in AVX2 intrinsics: the compiler's own vectorisation of it uses half-width
@@ -457,7 +459,7 @@ fn lane_sums(cx: Groups, cy: Groups, cz: Groups, bw: Groups, x: Vec3) -> [f64; L
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
 #[inline]
-unsafe fn lane_sums_avx2(cx: Groups, cy: Groups, cz: Groups, bw: Groups, x: Vec3) -> [f64; LANES] {
+unsafe fn lane_sums_avx2(cx: Groups, cy: Groups, cz: Groups, bw: Groups, x: Vec3, s: f64, tot: &mut [f64; LANES]) {
     use std::arch::x86_64::*;
     let (vx, vy, vz) = (_mm256_set1_pd(x.x), _mm256_set1_pd(x.y), _mm256_set1_pd(x.z));
     let mut acc = _mm256_setzero_pd();
@@ -468,10 +470,11 @@ unsafe fn lane_sums_avx2(cx: Groups, cy: Groups, cz: Groups, bw: Groups, x: Vec3
         let r2 = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy)), _mm256_mul_pd(dz, dz));
         acc = _mm256_add_pd(acc, _mm256_div_pd(pw, _mm256_mul_pd(r2, r2)));
     }
-    let mut out = [0.0f64; LANES];
-    // SAFETY: out is one whole [f64; 4].
-    unsafe { _mm256_storeu_pd(out.as_mut_ptr(), acc) };
-    out
+    // SAFETY: tot is one whole [f64; 4].
+    unsafe {
+        let t = _mm256_add_pd(_mm256_loadu_pd(tot.as_ptr()), _mm256_mul_pd(_mm256_set1_pd(s), acc));
+        _mm256_storeu_pd(tot.as_mut_ptr(), t);
+    }
 }
 
 /// Calibrated worst-case relative errors (rows: FAR_SEPS; columns: orders 1..=MAX_FAR_ORDER),
