@@ -331,11 +331,18 @@ fn clearance(p: &Polygon, blockers: &[&Polygon]) -> f64 {
     let (c, n) = (p.centroid(), p.normal());
     let mut least = f64::INFINITY;
     for b in blockers {
-        let h: Vec<f64> = b.vertices().iter().map(|v| n.dot(*v - c)).collect();
-        if h.iter().any(|&x| x > 0.0) && h.iter().any(|&x| x < 0.0) {
+        let (mut above, mut below) = (f64::INFINITY, false);
+        for v in b.vertices() {
+            let h = n.dot(*v - c);
+            if h > 0.0 {
+                above = above.min(h);
+            }
+            below |= h < 0.0;
+        }
+        if below && above < f64::INFINITY {
             return 0.0;
         }
-        least = h.iter().filter(|&&x| x > 0.0).fold(least, |m, &x| m.min(x));
+        least = least.min(above);
     }
     least / p.radius()
 }
@@ -745,67 +752,63 @@ fn kink_planes(a: &Polygon, receiver: &Polygon, blockers: &[&Polygon]) -> Kinks 
         }
         planes.push((q, n));
     };
-    let edges = |p: &Polygon| {
-        let v = p.vertices().to_vec();
-        (0..v.len()).map(move |k| (v[k], v[(k + 1) % v.len()])).collect::<Vec<_>>()
-    };
-    let rec_edges = edges(receiver);
     let (ca, na) = (a.centroid(), a.normal());
-    // Extent, along the direction u of the plane's trace on the source, of the source points
-    // from which the blocker edge's shadow can touch the receiver edge: lines r -> b through
-    // the four endpoint pairs, continued beyond b to the source plane (the position is
-    // monotone in each endpoint, so the corners bound it). None: unbounded, keep the plane.
-    let reach = |r: [Vec3; 2], b: [Vec3; 2], u: Vec3| -> Option<(f64, f64)> {
-        let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
-        for ri in r {
-            for bj in b {
-                let den = na.dot(bj - ri);
-                let t = na.dot(ca - ri) / den;
-                if !(t.is_finite() && t > 1.0) {
-                    return None;
-                }
-                let s = u.dot(ri + t * (bj - ri));
-                lo = lo.min(s);
-                hi = hi.max(s);
-            }
+    let (rec, src) = (receiver.vertices(), a.vertices());
+    // Where the line from receiver vertex r through blocker vertex q meets the source's plane
+    // beyond q (an event's end seen from the source): Err(-1) if q is behind that plane,
+    // Err(1) if the line never gets there. One table per blocker, rows = receiver vertices.
+    let dist = |x: Vec3| na.dot(x - ca);
+    let trace = |r: Vec3, q: Vec3| -> std::result::Result<Vec3, i8> {
+        let (dr, dq) = (dist(r), dist(q));
+        if dq <= 0.0 {
+            Err(-1)
+        } else if dq >= dr {
+            Err(1)
+        } else {
+            Ok(r + (q - r) * (dr / (dr - dq)))
         }
-        Some((lo, hi))
     };
-    let src = a.vertices();
-    let chord = |q: Vec3, n: Vec3, u: Vec3| -> (f64, f64) {
-        let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    let traces: Vec<Vec<Vec<std::result::Result<Vec3, i8>>>> =
+        blockers.iter().map(|b| rec.iter().map(|&r| b.vertices().iter().map(|&q| trace(r, q)).collect()).collect()).collect();
+    // Whether an event of the plane (q, n) whose ends on the source's plane are `ends` crosses
+    // the source: their stretch along the plane's trace direction meets the source's chord
+    // there. Unbounded events (an end that never reaches the plane) are kept.
+    let crosses = |q: Vec3, n: Vec3, ends: &[std::result::Result<Vec3, i8>]| -> bool {
+        let u = n.cross(na);
+        if !(u.length() > 0.0) || ends.iter().any(|e| e.is_err()) {
+            return true;
+        }
+        let u = u.normalize();
+        let (lo, hi) = ends.iter().flatten().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), x| (lo.min(u.dot(*x)), hi.max(u.dot(*x))));
+        let (mut slo, mut shi) = (f64::INFINITY, f64::NEG_INFINITY);
         for k in 0..src.len() {
             let (x, y) = (src[k], src[(k + 1) % src.len()]);
             let (dx, dy) = (n.dot(x - q), n.dot(y - q));
             if (dx <= 0.0) != (dy <= 0.0) {
                 let s = u.dot(x + (y - x) * (dx / (dx - dy)));
-                lo = lo.min(s);
-                hi = hi.max(s);
+                slo = slo.min(s);
+                shi = shi.max(s);
             }
         }
-        (lo, hi)
+        hi > slo + tol && lo < shi - tol
     };
-    for b in blockers {
-        add(b.vertices()[0], b.normal());
-        for (q0, q1) in edges(b) {
-            let g = q1 - q0;
-            for &(p0, p1) in &rec_edges {
-                let d = p1 - p0;
+    let next = |k: usize, len: usize| (k + 1) % len;
+    for (b, t) in blockers.iter().zip(&traces) {
+        let bv = b.vertices();
+        add(bv[0], b.normal());
+        for k in 0..bv.len() {
+            let (k1, g) = (next(k, bv.len()), bv[next(k, bv.len())] - bv[k]);
+            for e in 0..rec.len() {
+                let (e1, d) = (next(e, rec.len()), rec[next(e, rec.len())] - rec[e]);
                 if d.cross(g).length() > 1e-9 * d.length() * g.length() {
                     continue;
                 }
-                let n = d.cross(q0 - p0);
-                let u = n.cross(na);
-                if u.length() > 0.0 {
-                    let u = u.normalize();
-                    if let Some((lo, hi)) = reach([p0, p1], [q0, q1], u) {
-                        let (slo, shi) = chord(p0, n, u);
-                        if hi <= slo + tol || lo >= shi - tol {
-                            continue; // the shadow edge never meets the receiver edge from here
-                        }
-                    }
+                // the shadow of the blocker edge slides over the receiver edge only for source
+                // points between the traces of the four endpoint pairs
+                let n = d.cross(bv[k] - rec[e]);
+                if crosses(rec[e], n, &[t[e][k], t[e][k1], t[e1][k], t[e1][k1]]) {
+                    add(rec[e], n);
                 }
-                add(p0, n);
             }
         }
     }
@@ -814,51 +817,25 @@ fn kink_planes(a: &Polygon, receiver: &Polygon, blockers: &[&Polygon]) -> Kinks 
     // derivative there, which for nearly parallel edges happens over so short a stretch of the
     // source that it acts as a kink. Each event happens along a segment of the source's plane
     // (the trace of the edge, seen through the vertex): only events whose segment crosses the
-    // source count.
-    {
-        // Where the line from `from` through `via` meets the source's plane beyond `via`: Err
-        // with -1 if `via` is behind that plane, +1 if the line never gets there (unbounded).
-        let dist = |x: Vec3| na.dot(x - ca);
-        let trace = |from: Vec3, via: Vec3| -> std::result::Result<Vec3, i8> {
-            let (df, dv) = (dist(from), dist(via));
-            if dv <= 0.0 {
-                Err(-1)
-            } else if dv >= df {
-                Err(1)
-            } else {
-                Ok(from + (via - from) * (df / (df - dv)))
+    // source count; none where both ends lie behind the source or both out of reach.
+    let mut event = |q: Vec3, n: Vec3, ends: [std::result::Result<Vec3, i8>; 2]| {
+        let hopeless = matches!(ends, [Err(x), Err(y)] if x == y);
+        if !hopeless && crosses(q, n, &ends) {
+            add(q, n);
+        }
+    };
+    for (b, t) in blockers.iter().zip(&traces) {
+        let bv = b.vertices();
+        for k in 0..bv.len() {
+            let k1 = next(k, bv.len());
+            for (e, &r) in rec.iter().enumerate() {
+                event(r, (bv[k] - r).cross(bv[k1] - r), [t[e][k], t[e][k1]]);
             }
-        };
-        let mut event = |x0: std::result::Result<Vec3, i8>, x1: std::result::Result<Vec3, i8>, n: Vec3, q: Vec3| match (x0, x1) {
-            (Ok(x0), Ok(x1)) => {
-                let u = n.cross(na);
-                if u.length() > 0.0 {
-                    let u = u.normalize();
-                    let (lo, hi) = (u.dot(x0).min(u.dot(x1)), u.dot(x0).max(u.dot(x1)));
-                    let (slo, shi) = chord(q, n.normalize(), u);
-                    if hi > slo + tol && lo < shi - tol {
-                        add(q, n);
-                    }
-                }
-            }
-            // wholly behind the source or wholly beyond reach: no event
-            (Err(a), Err(b)) if a == b => {}
-            // partly unbounded (rare): keep the plane
-            _ => add(q, n),
-        };
-        let rec = receiver.vertices();
-        for b in blockers {
-            let bv = b.vertices();
-            for k in 0..bv.len() {
-                let (q0, q1) = (bv[k], bv[(k + 1) % bv.len()]);
-                for &r in rec {
-                    event(trace(r, q0), trace(r, q1), (q0 - r).cross(q1 - r), r);
-                }
-            }
-            for &(p0, p1) in &rec_edges {
-                for &q in bv {
-                    event(trace(p0, q), trace(p1, q), (p0 - q).cross(p1 - q), q);
-                }
+        }
+        for e in 0..rec.len() {
+            let e1 = next(e, rec.len());
+            for (k, &q) in bv.iter().enumerate() {
+                event(q, (rec[e] - q).cross(rec[e1] - q), [t[e][k], t[e1][k]]);
             }
         }
     }
@@ -1009,6 +986,14 @@ mod tests {
     use super::*;
     use crate::visibility::Bvh;
 
+    /// G of the pair (i, j) of `polys` by `clipping`, every other polygon a blocker.
+    fn clipping(polys: &[Polygon], i: usize, j: usize, o: &VisOptions) -> f64 {
+        let occ = Occluders::new(polys);
+        let bvh = Bvh::new(&occ.polygons).unwrap();
+        let ctx = Context { polygons: polys, occluders: &occ, vis: &bvh, rules: None };
+        pair(&ctx, i, j, VisMethod::Clipping, o).unwrap().value
+    }
+
     /// A quad with the given corners, turned to face along `normal`.
     fn facing_quad(mut v: Vec<Vec3>, normal: Vec3) -> Polygon {
         if (v[1] - v[0]).cross(v[2] - v[0]).dot(normal) < 0.0 {
@@ -1045,14 +1030,10 @@ mod tests {
         let blocker = facing_quad(vec![Vec3::new(0.3, -0.2, -0.1), Vec3::new(0.6, -0.2, 0.5), Vec3::new(0.6, 0.7, 0.5), Vec3::new(0.3, 0.7, -0.1)], Vec3::new(-2.0, 0.0, 1.0));
         let polys = vec![plate(0.0, true), plate(1.0, false), blocker];
         assert!(clearance(&polys[0], &[&polys[2]]) < clearance(&polys[1], &[&polys[2]]));
-        let occ = Occluders::new(&polys);
-        let bvh = Bvh::new(&occ.polygons).unwrap();
-        let ctx = Context { polygons: &polys, occluders: &occ, vis: &bvh, rules: None };
         let o = VisOptions { tol: 1e-5, exact_tol: 1e-12, ..Default::default() };
-        let (g01, g10) = (pair(&ctx, 0, 1, VisMethod::Clipping, &o).unwrap().value, pair(&ctx, 1, 0, VisMethod::Clipping, &o).unwrap().value);
+        let (g01, g10) = (clipping(&polys, 0, 1, &o), clipping(&polys, 1, 0, &o));
         assert_eq!(g01.to_bits(), g10.to_bits());
-        let reference = VisOptions { tol: 1e-10, max_evals: 2_000_000, ..o.clone() };
-        let reference = pair(&ctx, 0, 1, VisMethod::Clipping, &reference).unwrap().value;
+        let reference = clipping(&polys, 0, 1, &VisOptions { tol: 1e-10, max_evals: 2_000_000, ..o.clone() });
         let free = method::area_factor(&polys[0], &polys[1], Method::Analytic, &Default::default(), None).unwrap();
         assert!(reference < 0.9 * free && reference > 0.1 * free, "hidden fraction {}", 1.0 - reference / free);
         assert!((g01 - reference).abs() <= 1e-5 * free, "error {:.2e} of the unobstructed G", (g01 - reference).abs() / free);
@@ -1071,10 +1052,7 @@ mod tests {
         let receiver = facing_quad(vec![Vec3::new(x0, y0, 3.0), Vec3::new(3.0, y0, 3.0), Vec3::new(3.0, y2, 3.0), Vec3::new(x0, y2, 3.0)], -Vec3::Z);
         let mut polys = vec![source, receiver];
         polys.extend(box_faces(Vec3::new(0.8, 0.7, 1.1), Vec3::new(1.8, 1.7, 2.1)));
-        let occ = Occluders::new(&polys);
-        let bvh = Bvh::new(&occ.polygons).unwrap();
-        let ctx = Context { polygons: &polys, occluders: &occ, vis: &bvh, rules: None };
-        let value = |tol: f64| pair(&ctx, 0, 1, VisMethod::Clipping, &VisOptions { tol, exact_tol: 1e-12, ..Default::default() }).unwrap().value;
+        let value = |tol: f64| clipping(&polys, 0, 1, &VisOptions { tol, exact_tol: 1e-12, ..Default::default() });
         let free = method::area_factor(&polys[0], &polys[1], Method::Analytic, &Default::default(), None).unwrap();
         let reference = value(1e-10);
         assert!(reference > 0.05 * free && reference < 0.15 * free, "visible fraction {}", reference / free);

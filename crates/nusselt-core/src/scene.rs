@@ -512,8 +512,7 @@ mod tests {
         let tiles = Occluders { polygons: polys.clone(), owner: ids.clone(), member: ids };
         let bvh = Bvh::new(&polys).unwrap();
         let tile_ctx = Context { polygons: &polys, occluders: &tiles, vis: &bvh, rules: None };
-        let mut clip2 = VisOptions { clip_source: Some(2), ..Default::default() };
-        clip2.exact_tol = 1e-12;
+        let clip2 = VisOptions { clip_source: Some(2), exact_tol: 1e-12, ..Default::default() };
         let auto = VisOptions { tol: 1e-6, exact_tol: 1e-12, ..Default::default() };
         let (mut checked, mut cand) = (0, Vec::new());
         for i in (0..n).step_by(3) {

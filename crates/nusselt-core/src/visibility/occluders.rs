@@ -38,6 +38,8 @@ impl Occluders {
     pub fn new(polys: &[Polygon]) -> Occluders {
         let n = polys.len();
         let mut outline: Vec<Vec<Vec3>> = polys.iter().map(|p| p.vertices().to_vec()).collect();
+        // each group's polygon once it has joined something (validated when joined)
+        let mut joined_poly: Vec<Option<Polygon>> = vec![None; n];
         let normal: Vec<Vec3> = polys.iter().map(|p| p.normal()).collect();
         // union-find parent of each group; a group is alive while it is its own root
         let mut parent: Vec<usize> = (0..n).collect();
@@ -72,7 +74,7 @@ impl Occluders {
                     continue;
                 }
                 // take in neighbours across g's edges while one joins
-                while let Some((h, u)) = {
+                while let Some((h, u, poly)) = {
                     let v = &outline[g];
                     let ng = normal[g];
                     let turn = |p: Vec3, q: Vec3, r: Vec3| {
@@ -87,14 +89,16 @@ impl Occluders {
                         }
                         let u = join_convex(v, &outline[h], turn, STRAIGHT_TOL)?;
                         // the union must be a valid polygon in its own right
-                        Polygon::with_tolerance(u.clone(), 1e-9).ok()?;
-                        Some((h, u))
+                        let poly = Polygon::with_tolerance(u.clone(), 1e-9).ok()?;
+                        Some((h, u, poly))
                     })
                 } {
                     parent[h] = g;
                     outline[h] = Vec::new();
+                    joined_poly[h] = None;
                     record(&mut edges, g, &u);
                     outline[g] = u;
+                    joined_poly[g] = Some(poly);
                     joined = true;
                 }
             }
@@ -115,12 +119,8 @@ impl Occluders {
             let r = root(k);
             if index[r] == u32::MAX {
                 index[r] = out.len() as u32;
-                // a polygon that joined nothing keeps its own (validated) outline
-                out.push(if outline[r].len() == polys[r].vertices().len() && outline[r] == polys[r].vertices() {
-                    polys[r].clone()
-                } else {
-                    Polygon::with_tolerance(outline[r].clone(), 1e-9).expect("checked when joined")
-                });
+                // a polygon that joined nothing is its own occluder
+                out.push(joined_poly[r].take().unwrap_or_else(|| polys[r].clone()));
                 member.push(k as u32);
             }
             owner[k] = index[r];
