@@ -327,6 +327,18 @@ fn bench_visible() {
     }
     let dt = t.elapsed().as_secs_f64() / n as f64;
     println!("point_visible_view_factor, 3 blockers: {:.1} us/call (mean F {:.4})", dt * 1e6, acc / n as f64);
+    // a blocker meshed into 20 x 20 tiles
+    let tiles: Vec<Polygon> = (0..400)
+        .map(|k| rect(2, 0.5, (0.2 + 0.02 * (k % 20) as f64, 0.22 + 0.02 * (k % 20) as f64), (0.2 + 0.02 * (k / 20) as f64, 0.22 + 0.02 * (k / 20) as f64), true))
+        .collect();
+    let refs: Vec<&Polygon> = tiles.iter().collect();
+    let t = std::time::Instant::now();
+    let mut acc = 0.0;
+    for i in 0..n / 20 {
+        let p = Vec3::new(0.3 + 0.4 * (i as f64 / (n / 20) as f64), 0.5, 1.0);
+        acc += point_visible_view_factor(p, DOWN, &f, &refs);
+    }
+    println!("20 x 20 tiles: {:.1} us/call (mean F {:.4})", t.elapsed().as_secs_f64() / (n / 20) as f64 * 1e6, acc / (n / 20) as f64);
     let t = std::time::Instant::now();
     let mut free = 0.0;
     for i in 0..n {
@@ -447,28 +459,7 @@ fn convex_path_special_cases() {
 }
 
 #[test]
-fn edge_adjacent_shadows_join_where_the_union_is_convex() {
-    let sq = |x: f64, y: f64| vec![[x, y], [x + 1.0, y], [x + 1.0, y + 1.0], [x, y + 1.0]];
-    // a 3 x 3 grid of tiles: one square with its four corners only
-    let mut grid: Vec<Cow<[[f64; 2]]>> = (0..9).map(|k| Cow::Owned(sq((k % 3) as f64, (k / 3) as f64))).collect();
-    let mut boxes = grid.iter().map(|s| bbox(s)).collect();
-    merge_adjacent(&mut grid, &mut boxes);
-    assert_eq!(grid.len(), 1);
-    let mut corners = grid[0].to_vec();
-    corners.sort_by(|a, b| a.partial_cmp(b).unwrap());
-    assert_eq!(corners, vec![[0.0, 0.0], [0.0, 3.0], [3.0, 0.0], [3.0, 3.0]]);
-    // an L of three tiles: its union is not convex, so two shadows remain (same total area)
-    let mut ell: Vec<Cow<[[f64; 2]]>> = vec![sq(0.0, 0.0).into(), sq(1.0, 0.0).into(), sq(0.0, 1.0).into()];
-    let mut boxes = ell.iter().map(|s| bbox(s)).collect();
-    merge_adjacent(&mut ell, &mut boxes);
-    assert_eq!(ell.len(), 2);
-    assert!(ell.iter().all(|s| is_convex(s)));
-    assert_eq!(ell.iter().map(|s| signed_area(s)).sum::<f64>(), 3.0);
-    // a shared point or a partly shared edge (T-junction) is no joint
-    let mut apart: Vec<Cow<[[f64; 2]]>> = vec![sq(0.0, 0.0).into(), sq(1.0, 1.0).into(), vec![[1.0, -0.5], [2.0, -0.5], [2.0, 0.5], [1.0, 0.5]].into()];
-    let mut boxes = apart.iter().map(|s| bbox(s)).collect();
-    merge_adjacent(&mut apart, &mut boxes);
-    assert_eq!(apart.len(), 3);
+fn meshed_and_nested_shadows_in_the_convex_path() {
     // shadows of a meshed blocker in the convex path: the same F as the boolean
     let f = floor();
     let tiles: Vec<Polygon> = (0..16)
@@ -478,6 +469,25 @@ fn edge_adjacent_shadows_join_where_the_union_is_convex() {
     let c = cast(P, DOWN, &f, &refs).unwrap();
     let (fast, slow) = (shadowed_convex(P, DOWN, &c).unwrap(), shadowed_boolean(P, DOWN, &c));
     assert!((fast - slow).abs() < 1e-14 && slow > 0.1, "{fast} vs {slow}");
+    // the walls of two coaxial open prisms standing on the receiver: 24 shadows, nested and
+    // overlapping, subtracted in any order
+    let walls: Vec<Polygon> = [0.15, 0.3]
+        .iter()
+        .flat_map(|&r| {
+            (0..12).map(move |k| {
+                let (a0, a1) = (std::f64::consts::TAU * k as f64 / 12.0, std::f64::consts::TAU * (k + 1) as f64 / 12.0);
+                let at = |a: f64, z: f64| [0.4 + r * a.cos(), 0.6 + r * a.sin(), z];
+                poly(&[at(a0, 0.0), at(a1, 0.0), at(a1, 0.3), at(a0, 0.3)])
+            })
+        })
+        .collect();
+    let refs: Vec<&Polygon> = walls.iter().collect();
+    for p in [Vec3::new(0.5, 0.5, 1.0), Vec3::new(1.3, -0.2, 0.6), Vec3::new(0.45, 0.62, 0.4)] {
+        let c = cast(p, DOWN, &f, &refs).unwrap();
+        assert!(c.shadows.len() >= 12);
+        let (fast, slow) = (shadowed_convex(p, DOWN, &c).unwrap(), shadowed_boolean(p, DOWN, &c));
+        assert!((fast - slow).abs() < 1e-14 && slow > 0.01, "{p:?}: {fast} vs {slow}");
+    }
 }
 
 /// `hides_whole` against segment sampling: whenever it says a blocker hides a target

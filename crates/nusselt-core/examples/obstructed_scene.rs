@@ -1,0 +1,57 @@
+//! Profiling driver for obstructed `auto` on any scene, read from a text file with one
+//! polygon per line (x y z of each vertex, whitespace separated):
+//!
+//!   cargo run --release -p nusselt-core --example obstructed_scene -- FILE [TOL] [SLOWEST]
+//!       time every pair (i < j) one by one on this thread and list the SLOWEST pairs
+//!       (default 10) with their time; the total is the one-core time of the scene
+//!   ... FILE TOL SLOWEST I J
+//!       time the pair (I, J) alone
+use nusselt_core::obstructed::VisMethod;
+use nusselt_core::scene::{AllOptions, AnyMethod, Scene};
+use nusselt_core::{Polygon, Vec3};
+use std::sync::atomic::AtomicBool;
+use std::time::Instant;
+
+fn main() {
+    let args: Vec<String> = std::env::args().collect();
+    let text = std::fs::read_to_string(&args[1]).expect("readable polygon file");
+    let tol: f64 = args.get(2).and_then(|s| s.parse().ok()).unwrap_or(1e-6);
+    let slowest: usize = args.get(3).and_then(|s| s.parse().ok()).unwrap_or(10);
+    let polys: Vec<Polygon> = text
+        .lines()
+        .filter(|l| !l.trim().is_empty())
+        .map(|l| {
+            let x: Vec<f64> = l.split_whitespace().map(|s| s.parse().expect("a number")).collect();
+            Polygon::new(x.chunks(3).map(|c| Vec3::new(c[0], c[1], c[2])).collect()).expect("a valid polygon")
+        })
+        .collect();
+    let n = polys.len();
+    let scene = Scene::new(polys, vec![true; n]).unwrap();
+    let mut o = AllOptions::default();
+    o.vis.tol = tol;
+    let m = AnyMethod::Visible(VisMethod::Auto);
+    let never = AtomicBool::new(false);
+    if let (Some(i), Some(j)) = (args.get(4).and_then(|s| s.parse::<usize>().ok()), args.get(5).and_then(|s| s.parse::<usize>().ok())) {
+        // one pair (i, j), every other polygon a blocker
+        let p = scene.polygons();
+        let obs: Vec<Polygon> = (0..n).filter(|&k| k != i && k != j).map(|k| p[k].clone()).collect();
+        let t = Instant::now();
+        let e = nusselt_core::scene::pair_view_factor(p[i].clone(), p[j].clone(), obs, m, &o).unwrap();
+        println!("pair ({i}, {j}): F {:.15e} in {:.4} s", e.value, t.elapsed().as_secs_f64());
+        return;
+    }
+    let mut times = Vec::new();
+    let t0 = Instant::now();
+    for i in 0..n {
+        // one row at a time: the per-row time locates the expensive pairs
+        let t = Instant::now();
+        let r = scene.pair_rows(&[i], m, &o, &never).unwrap();
+        times.push((t.elapsed().as_secs_f64(), i, r[0].len()));
+    }
+    let total = t0.elapsed().as_secs_f64();
+    times.sort_by(|a, b| b.0.total_cmp(&a.0));
+    println!("{n} polygons, tol {tol:e}: {total:.3} s");
+    for (t, i, len) in times.iter().take(slowest) {
+        println!("row {i}: {t:.3} s ({len} nonzero pairs)");
+    }
+}
