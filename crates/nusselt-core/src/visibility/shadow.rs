@@ -266,15 +266,22 @@ fn shadowed_convex(p: Vec3, n: Vec3, cast: &Cast) -> Option<f64> {
         }
         if let [s] = &shadows[..] {
             // one shadow: Lambert over receiver ∩ shadow directly (one piece, not the ring
-            // of pieces around it); exactly 0 if they do not overlap
+            // of pieces around it); exactly 0 if they do not overlap, exactly all of the
+            // receiver's F if it covers the receiver
             a.clear();
             a.extend_from_slice(&cast.rec2);
+            let mut covers = true;
             for e in 0..s.len() {
-                clip_2d(a, s[e], s[(e + 1) % s.len()], true, b);
-                std::mem::swap(a, b);
-                if a.len() < 3 {
-                    return Some(0.0);
+                if split_2d(a, s[e], s[(e + 1) % s.len()], b, c) {
+                    covers = false;
+                    std::mem::swap(a, b);
+                    if a.len() < 3 {
+                        return Some(0.0);
+                    }
                 }
+            }
+            if covers {
+                return Some(free());
             }
             piece3.clear();
             piece3.extend(a.iter().map(|u| cast.frame.to3d(*u)));
@@ -437,17 +444,48 @@ fn subtract_convex(q: &[[f64; 2]], t: &[[f64; 2]], out: &mut Pieces, a: &mut Vec
         if u == v {
             continue; // no direction (drop_close leaves none but a lone point)
         }
-        clip_2d(rest, u, v, false, a);
+        if !split_2d(rest, u, v, b, a) {
+            continue; // nothing of it right of this edge
+        }
         if a.len() >= 3 {
             out.push(a);
         }
-        clip_2d(rest, u, v, true, b);
         std::mem::swap(rest, b);
         if rest.len() < 3 {
             return true;
         }
     }
     // what is left lies inside t: hidden by it
+    true
+}
+
+/// Both halves of [`clip_2d`] in one pass, the points on the line in both: the part of `v`
+/// left of u -> w into `left`, the part right of it into `right` (the same points, bit for
+/// bit, as two clips). False, with both untouched, when no vertex lies right of the line.
+fn split_2d(v: &[[f64; 2]], u: [f64; 2], w: [f64; 2], left: &mut Vec<[f64; 2]>, right: &mut Vec<[f64; 2]>) -> bool {
+    if v.iter().all(|x| orient(u, w, *x) >= 0.0) {
+        return false;
+    }
+    left.clear();
+    right.clear();
+    let Some(&last) = v.last() else { return true };
+    let (mut x, mut dx) = (last, orient(u, w, last));
+    for &y in v {
+        let dy = orient(u, w, y);
+        if (dx > 0.0 && dy < 0.0) || (dx < 0.0 && dy > 0.0) {
+            let t = dx / (dx - dy);
+            let z = [x[0] + t * (y[0] - x[0]), x[1] + t * (y[1] - x[1])];
+            left.push(z);
+            right.push(z);
+        }
+        if dy >= 0.0 {
+            left.push(y);
+        }
+        if dy <= 0.0 {
+            right.push(y);
+        }
+        (x, dx) = (y, dy);
+    }
     true
 }
 
