@@ -183,3 +183,62 @@ def test_obstructed_tol_is_met_per_pair(tol):
         free = nusselt.view_factor(polys[i], polys[j])
         assert ref < 0.99 * free, (i, j)  # the crate hides part of every one of these pairs
         assert abs(f - ref) <= tol * free, (i, j)
+
+
+def prism(r, n, inward):
+    """The n side walls of a regular prism of radius r, height 1 (open ends)."""
+    out = []
+    for k in range(n):
+        a0, a1 = 2 * np.pi * k / n, 2 * np.pi * (k + 1) / n
+        q = np.array([[r * np.cos(a0), r * np.sin(a0), 0], [r * np.cos(a1), r * np.sin(a1), 0],
+                      [r * np.cos(a1), r * np.sin(a1), 1], [r * np.cos(a0), r * np.sin(a0), 1]])
+        out.append(q[::-1].copy() if inward else q)  # counter-clockwise seen from outside
+    return out
+
+
+def uv_sphere(radius, nu, nv, centre):
+    """A closed faceted sphere, normals inward (quads, triangles at the poles)."""
+    out = []
+    at = lambda t, a: centre + radius * np.array([np.sin(t) * np.cos(a), np.sin(t) * np.sin(a), np.cos(t)])
+    for i in range(nv):
+        t0, t1 = np.pi * i / nv, np.pi * (i + 1) / nv
+        for k in range(nu):
+            a0, a1 = 2 * np.pi * k / nu, 2 * np.pi * (k + 1) / nu
+            q = [at(t0, a0), at(t1, a0), at(t1, a1), at(t0, a1)]
+            q = np.array(q[:3] if i == 0 else [q[0], q[1], q[3]] if i == nv - 1 else q)
+            if np.cross(q[1] - q[0], q[2] - q[0]) @ (q.mean(0) - centre) > 0:
+                q = q[::-1].copy()
+            out.append(q)
+    return out
+
+
+@pytest.mark.parametrize("r1,r2", [(0.125, 0.25), (0.25, 0.5)])
+def test_blocked_cylinder_identity(r1, r2):
+    # reference-cases.md "blocked cylinder": what leaves the inner prism's walls either hits
+    # the open outer prism or escapes through its ends to the enclosing sphere, so
+    # F(inner -> sphere, blocked by the outer walls) = 1 - F(inner -> outer) exactly, for the
+    # faceted geometry too. Every sphere facet pair is partly hidden by up to 8 walls.
+    inner, outer = prism(r1, 8, inward=False), prism(r2, 8, inward=True)
+    sphere = uv_sphere(3.0, 12, 6, np.array([0.0, 0.0, 0.5]))
+    area = lambda p: 0.5 * np.linalg.norm(sum(np.cross(p[k], p[(k + 1) % len(p)]) for k in range(len(p))))
+    a_in = sum(area(p) for p in inner)
+    to_outer = sum(area(p) * nusselt.view_factor(p, q) for p in inner for q in outer) / a_in
+    for method in EXACT_METHODS:
+        to_sphere = sum(area(p) * nusselt.view_factor(p, s, obstacles=outer, method=method)
+                        for p in inner for s in sphere) / a_in
+        assert 0.05 < to_sphere < 0.4
+        assert to_sphere == pytest.approx(1.0 - to_outer, abs=1e-6), method
+
+
+@pytest.mark.slow
+def test_blocked_cylinder_scene():
+    # the same identity from the whole scene's matrix (every polygon blocks), aggregated
+    inner, outer = prism(0.125, 6, inward=False), prism(0.25, 6, inward=True)
+    sphere = uv_sphere(3.0, 12, 6, np.array([0.0, 0.0, 0.5]))
+    names = ["inner"] * 6 + ["outer"] * 6 + ["sphere"] * len(sphere)
+    res = nusselt.form_factors(nusselt.Scene.from_polygons(inner + outer + sphere, surface=names), method="auto")
+    s = res.by_surface()
+    f = s.dense() if hasattr(s, "dense") else s.matrix
+    i, o, k = (list(s.names).index(x) for x in ("inner", "outer", "sphere"))
+    assert f[i, k] == pytest.approx(1.0 - f[i, o], abs=1e-6)
+    assert res.reciprocity_error <= 1e-12
