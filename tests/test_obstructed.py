@@ -185,6 +185,33 @@ def test_obstructed_tol_is_met_per_pair(tol):
         assert abs(f - ref) <= tol * free, (i, j)
 
 
+
+def aligned_plates(a, b, c):
+    """F between directly opposed a x b rectangles at distance c (Hottel's closed form)."""
+    x, y = a / c, b / c
+    return 2 / (np.pi * x * y) * (
+        0.5 * np.log((1 + x * x) * (1 + y * y) / (1 + x * x + y * y))
+        + x * np.sqrt(1 + y * y) * np.arctan(x / np.sqrt(1 + y * y))
+        + y * np.sqrt(1 + x * x) * np.arctan(y / np.sqrt(1 + x * x))
+        - x * np.arctan(x) - y * np.arctan(y))
+
+
+@pytest.mark.parametrize("x", [0.13, 0.5, 0.71])
+@pytest.mark.parametrize("reach", ["spanning", "piercing"])
+def test_partition_between_plates(x, reach):
+    # A partition in the plane x = const that touches (or pierces) both unit plates splits the
+    # exchange into the two halves facing each other: F = x F(x by 1) + (1 - x) F(1 - x by 1).
+    # The visibility steps along the partition's plane on both plates: a plain Gauss rule
+    # over each plate resolved it to 5e-3 only.
+    assert aligned_plates(1, 1, 1) == pytest.approx(0.199824895698387, abs=1e-14)  # reference-cases.md
+    exact = x * aligned_plates(x, 1, 1) + (1 - x) * aligned_plates(1 - x, 1, 1)
+    z0, z1 = (0.0, 1.0) if reach == "spanning" else (-0.2, 1.3)
+    wall = np.array([[x, -0.5, z0], [x, 1.5, z0], [x, 1.5, z1], [x, -0.5, z1]])
+    for method in EXACT_METHODS + AREA_METHODS:
+        f = nusselt.view_factor(EMITTER, RECEIVER, obstacles=[wall], method=method)
+        tol = 1e-6 if method in EXACT_METHODS else 1e-5 if method == "quadrature" else 2e-3
+        assert f == pytest.approx(exact, abs=tol), method
+
 def prism(r, n, inward):
     """The n side walls of a regular prism of radius r, height 1 (open ends)."""
     out = []

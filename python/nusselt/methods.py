@@ -97,10 +97,13 @@ METHODS: dict[str, Method] = {
     ),
     "quadrature": Method(
         "quadrature",
-        "Gauss rules on both areas (the double area integral) with point-pair visibility by ray casting",
+        "Gauss rules on both areas (the double area integral) with point-pair visibility by ray casting; "
+        "each polygon is first cut along the planes of blockers that pass through it (a partition or a fin "
+        "standing on it), where visibility steps",
         obstructed=True,
         options={
-            "order": Option(int, 24, "Gauss order per direction on each polygon", 1, 32),
+            "order": Option(int, 24, "Gauss order per direction on each polygon (a piece cut off a fraction f of "
+                            "it gets ceil(order sqrt f))", 1, 32),
             "panels": Option(int, 4, "point form: the receiver is split into panels^2 pieces per triangle, "
                              "each with the order rule (composite rule for the sharp visibility step)", 1, 64),
             "control_variate": Option(
