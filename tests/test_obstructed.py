@@ -212,6 +212,19 @@ def test_partition_between_plates(x, reach):
         tol = 1e-6 if method in EXACT_METHODS else 1e-5 if method == "quadrature" else 2e-3
         assert f == pytest.approx(exact, abs=tol), method
 
+
+@pytest.mark.parametrize("x,px", [(0.16, 0.17), (0.16, 0.15), (0.5, 0.9), (0.845, 0.855)])
+def test_point_next_to_a_partition(x, px):
+    # dA at (px, 0.37) below a unit plate, a partition at x standing on both planes: the point
+    # sees exactly the part of the plate on its own side (corner superposition). The shadow's
+    # edge lies at the partition's foot, right above the point for px close to x.
+    exact = parallel_rect(px, 0.37, 0, x, 0, 1, 1.0) if px < x else parallel_rect(px, 0.37, x, 1, 0, 1, 1.0)
+    wall = np.array([[x, -0.5, 0.0], [x, 1.5, 0.0], [x, 1.5, 1.0], [x, -0.5, 1.0]])
+    for method in EXACT_METHODS + AREA_METHODS:
+        f = nusselt.point_view_factor([px, 0.37, 0.0], [0, 0, 1], RECEIVER, obstacles=[wall], method=method)
+        tol = 1e-9 if method in EXACT_METHODS + ["quadrature", "subdivision"] else 2e-3
+        assert f == pytest.approx(exact, abs=tol), method
+
 def prism(r, n, inward):
     """The n side walls of a regular prism of radius r, height 1 (open ends)."""
     out = []

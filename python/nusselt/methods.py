@@ -127,7 +127,7 @@ METHODS: dict[str, Method] = {
     "subdivision": Method(
         "subdivision",
         "dA -> A_j by uniform subdivision of the receiver (exact Lambert per piece times the piece's "
-        "visibility), summed over source points",
+        "visibility; the receiver is first cut along the planes of blockers through it), summed over source points",
         obstructed=True,
         options={"divisions": Option(int, 48, "each receiver triangle is split into divisions^2", 1, 256),
                  "source": SOURCE_AREA},

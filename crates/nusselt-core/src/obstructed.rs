@@ -268,7 +268,7 @@ pub fn pair_with(ctx: &Context, i: usize, j: usize, m: VisMethod, o: &VisOptions
             }
         }
         VisMethod::Subdivision | VisMethod::Adaptive => {
-            let pieces = if m == VisMethod::Subdivision { Some(subdivide(b, o.divisions)) } else { None };
+            let pieces = if m == VisMethod::Subdivision { Some(subdivide_at_blockers(b, &blockers, o.divisions)) } else { None };
             let mut g = 0.0;
             let points = match o.source_points {
                 Some(k) => source_points(sa, k),
@@ -389,7 +389,7 @@ pub fn point(ctx: &Context, p: Vec3, n: Vec3, j: usize, m: VisMethod, o: &VisOpt
     let visible = |y: Vec3| !ctx.vis.occluded(p, y, ignore);
     Ok(match m {
         VisMethod::Quadrature => {
-            let rules: Vec<AreaRule> = subdivide(b, o.panels)
+            let rules: Vec<AreaRule> = subdivide_at_blockers(b, &blockers, o.panels)
                 .into_iter()
                 .filter_map(|t| Polygon::new(t.to_vec()).ok())
                 .map(|t| AreaRule::new(&t, o.order))
@@ -428,7 +428,7 @@ pub fn point(ctx: &Context, p: Vec3, n: Vec3, j: usize, m: VisMethod, o: &VisOpt
             }
             mean_and_error(&est)
         }
-        VisMethod::Subdivision => Estimate::exact(uniform_point(p, n, &subdivide(b, o.divisions), &visible)),
+        VisMethod::Subdivision => Estimate::exact(uniform_point(p, n, &subdivide_at_blockers(b, &blockers, o.divisions), &visible)),
         VisMethod::Adaptive => Estimate::exact(adaptive_point(p, n, b, &visible, o)),
         VisMethod::Clipping | VisMethod::Auto => Estimate::exact(point_visible_view_factor(p, n, b, &blockers)),
     })
@@ -559,6 +559,19 @@ fn subdivide(b: &Polygon, d: usize) -> Vec<[Vec3; 3]> {
         }
     }
     out
+}
+
+/// The receiver's triangles for `subdivision` and the point form of `quadrature`: `b` cut
+/// along the planes of the blockers through it (see [`cut_at_blocker_planes`]), each piece
+/// split into about d^2 times its share of the area, so that a shadow edge at the foot of a
+/// blocker standing on b runs along the pieces instead of across them (a partition next to
+/// a point: 1.8e-3 from 0/1 visibility of pieces cut by the shadow's edge).
+fn subdivide_at_blockers(b: &Polygon, blockers: &[&Polygon], d: usize) -> Vec<[Vec3; 3]> {
+    let parts = cut_at_blocker_planes(b, blockers);
+    if parts.len() == 1 {
+        return subdivide(b, d);
+    }
+    parts.iter().flat_map(|q| subdivide(q, ((d as f64 * (q.area() / b.area()).sqrt()).ceil() as usize).max(1))).collect()
 }
 
 fn centroid3(t: &[Vec3; 3]) -> Vec3 {
