@@ -209,7 +209,7 @@ def test_partition_between_plates(x, reach):
     wall = np.array([[x, -0.5, z0], [x, 1.5, z0], [x, 1.5, z1], [x, -0.5, z1]])
     for method in EXACT_METHODS + AREA_METHODS:
         f = nusselt.view_factor(EMITTER, RECEIVER, obstacles=[wall], method=method)
-        tol = 1e-6 if method in EXACT_METHODS else 1e-5 if method == "quadrature" else 2e-3
+        tol = {"quadrature": 1e-5, "subdivision": 1e-5, "montecarlo": 5e-4}.get(method, 1e-6 if method in EXACT_METHODS else 2e-3)
         assert f == pytest.approx(exact, abs=tol), method
 
 

@@ -113,8 +113,8 @@ METHODS: dict[str, Method] = {
     ),
     "montecarlo": Method(
         "montecarlo",
-        "area-to-area quasi-Monte Carlo with Owen-scrambled Sobol points; standard error from 8 "
-        "independent scramblings",
+        "area-to-area quasi-Monte Carlo with Owen-scrambled Sobol points, stratified over the pieces of both "
+        "polygons cut along the planes of blockers through them; standard error from 8 independent scramblings",
         obstructed=True,
         options={
             "samples": Option(int, 16384, "point pairs per form factor", 8, 2**24),

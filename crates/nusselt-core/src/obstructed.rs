@@ -242,7 +242,7 @@ pub fn pair_with(ctx: &Context, i: usize, j: usize, m: VisMethod, o: &VisOptions
         // Nothing can block: every method reduces to the unobstructed integral.
         return Ok(match m {
             _ if exact_when_unobstructed(m, o) => Estimate::exact(exact()?),
-            VisMethod::MonteCarlo => montecarlo(a, b, None, o, i, j),
+            VisMethod::MonteCarlo => montecarlo(a, b, None, &[], o, i, j),
             _ => Estimate::exact(quadrature(a, b, None, &[], o)),
         });
     }
@@ -261,10 +261,10 @@ pub fn pair_with(ctx: &Context, i: usize, j: usize, m: VisMethod, o: &VisOptions
         }
         VisMethod::MonteCarlo => {
             if o.control_variate {
-                let e = montecarlo(a, b, Some(&|x, y| !visible(x, y)), o, i, j);
+                let e = montecarlo(a, b, Some(&|x, y| !visible(x, y)), &blockers, o, i, j);
                 Estimate { value: exact()? - e.value, std_err: e.std_err }
             } else {
-                montecarlo(a, b, Some(&visible), o, i, j)
+                montecarlo(a, b, Some(&visible), &blockers, o, i, j)
             }
         }
         VisMethod::Subdivision | VisMethod::Adaptive => {
@@ -502,25 +502,44 @@ fn cut_at_blocker_planes(p: &Polygon, blockers: &[&Polygon]) -> Vec<Polygon> {
 
 /// Area-to-area RQMC: 8 independent Owen scramblings of a 4-D Sobol sequence; the spread of
 /// the 8 estimates gives the standard error.
-fn montecarlo(a: &Polygon, b: &Polygon, pred: Option<&dyn Fn(Vec3, Vec3) -> bool>, o: &VisOptions, i: usize, j: usize) -> Estimate {
-    let (sa, sb) = (PolygonSampler::new(a), PolygonSampler::new(b));
+fn montecarlo(a: &Polygon, b: &Polygon, pred: Option<&dyn Fn(Vec3, Vec3) -> bool>, blockers: &[&Polygon], o: &VisOptions, i: usize, j: usize) -> Estimate {
+    // strata: the pairs of pieces of the two polygons cut along the blockers' planes (see
+    // [`cut_at_blocker_planes`]), each with its share of the samples: behind a partition the
+    // hidden part is then a whole stratum, sampled without the visibility step
+    let (pa, pb) = (cut_at_blocker_planes(a, blockers), cut_at_blocker_planes(b, blockers));
     let reps = 8usize;
     let per = (o.samples / reps).max(1);
+    let strata: Vec<(PolygonSampler, PolygonSampler, f64, usize)> = pa
+        .iter()
+        .flat_map(|x| pb.iter().map(move |y| (x, y)))
+        .map(|(x, y)| {
+            let share = x.area() * y.area() / (a.area() * b.area());
+            (PolygonSampler::new(x), PolygonSampler::new(y), x.area() * y.area(), ((per as f64 * share).round() as usize).max(8))
+        })
+        .collect();
     let mut est = Vec::with_capacity(reps);
     for r in 0..reps {
-        // every pair gets its own scrambling: results do not depend on the order of pairs
-        let seed = hash_seed(o.seed, &[i as u64, j as u64, r as u64]);
-        let mut acc = 0.0;
-        for k in 0..per {
-            let u = sobol4(k as u32, seed);
-            let x = sa.sample([u[0], u[1]]);
-            let y = sb.sample([u[2], u[3]]);
-            let kv = kernel(x, a.normal(), y, b.normal());
-            if kv > 0.0 && pred.map_or(true, |p| p(x, y)) {
-                acc += kv;
+        let mut total = 0.0;
+        for (s, (sa, sb, area, n)) in strata.iter().enumerate() {
+            // every pair gets its own scrambling: results do not depend on the order of pairs
+            let seed = if strata.len() == 1 {
+                hash_seed(o.seed, &[i as u64, j as u64, r as u64])
+            } else {
+                hash_seed(o.seed, &[i as u64, j as u64, r as u64, s as u64])
+            };
+            let mut acc = 0.0;
+            for k in 0..*n {
+                let u = sobol4(k as u32, seed);
+                let x = sa.sample([u[0], u[1]]);
+                let y = sb.sample([u[2], u[3]]);
+                let kv = kernel(x, a.normal(), y, b.normal());
+                if kv > 0.0 && pred.map_or(true, |p| p(x, y)) {
+                    acc += kv;
+                }
             }
+            total += area * acc / *n as f64;
         }
-        est.push(a.area() * b.area() * acc / per as f64);
+        est.push(total);
     }
     mean_and_error(&est)
 }
