@@ -271,3 +271,29 @@ def test_point_disk_polygon_converges():
     f = nusselt.point_view_factor([0, 0, 0], [0, 0, 1], disk)
     assert f < 0.2  # the inscribed polygon sees less than the disk
     assert f == pytest.approx(0.2, rel=2e-6)
+
+
+def test_collinear_cut_edges_of_a_piercing_pair():
+    # Each polygon crosses the other's plane, so both are clipped along the line where the
+    # planes meet: the two cut edges are collinear, one only 1e-3 long. Its direction carried
+    # rounding of sin ~ 2e-14, the pair was taken as skew with noise for the lines' distance,
+    # and analytic missed by 2e-7 (reciprocity by 1e-6). Contour, the other direction and
+    # reciprocity are the independent checks.
+    a = np.array([[-0.038274757486290514, -0.27811723499917557, -0.025810111424966295],
+                  [0.19737081285482608, -1.0140554576836978, 0.05150812021785388],
+                  [0.24456416502044365, -0.44973393672618855, 0.15333557086320973],
+                  [0.34686056246221514, 0.6086155355165865, 0.3540547594389003],
+                  [0.020930076690581664, 0.054477705326109, 0.056396950611051086],
+                  [-0.060612972064093384, 0.7358405486903673, 0.08140752346724514],
+                  [-0.14537725651815223, 0.03240441445098481, -0.06385940874781107],
+                  [-0.289169995674268, -0.4013881540353443, -0.2181467393091047]])
+    b = np.array([[-1.107121368018623, 1.3334428177619113, 1.5986215365777716],
+                  [-1.127313139158209, 1.020802252636832, 1.6316878144170603],
+                  [-0.8789435608996794, -0.2840887390717389, 1.0555887713846235],
+                  [0.20872140915480758, 1.2986048817155087, -1.2273236040605862]])
+    area = lambda p: 0.5 * np.linalg.norm(sum(np.cross(p[k], p[(k + 1) % len(p)]) for k in range(len(p))))
+    f_ab = nusselt.view_factor(a, b, method="analytic")
+    f_ba = nusselt.view_factor(b, a, method="analytic")
+    assert f_ab == pytest.approx(nusselt.view_factor(a, b, method="contour"), rel=1e-11)
+    assert area(a) * f_ab == pytest.approx(area(b) * f_ba, rel=1e-12)
+    assert nusselt.view_factor(a, b) == pytest.approx(f_ab, rel=1e-12)
