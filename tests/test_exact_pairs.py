@@ -297,3 +297,21 @@ def test_collinear_cut_edges_of_a_piercing_pair():
     assert f_ab == pytest.approx(nusselt.view_factor(a, b, method="contour"), rel=1e-11)
     assert area(a) * f_ab == pytest.approx(area(b) * f_ba, rel=1e-12)
     assert nusselt.view_factor(a, b) == pytest.approx(f_ab, rel=1e-12)
+
+
+def test_contour_default_nodes_on_a_pair_cut_by_the_others_plane():
+    # b crosses a's plane and is cut there; the edge-pair terms cancel to about a tenth of
+    # their size. With 8 nodes per panel contour was off by 1.1e-8 here (found by fuzzing
+    # against analytic, and an independent integration of Lambert's point formula over a
+    # agreed with analytic to 2.5e-11); the default is now 16.
+    a = np.array([[1.5269832423657144, -0.3015626042165006, -0.10531973963735786],
+                  [1.5855055180885378, -0.2365717231611706, -0.06765548001690613],
+                  [1.5648553415961335, 1.0967844221173466, 1.0218521108351224]])
+    b = np.array([[0.34004679925811576, -1.1203372398035158, -1.923054893463587],
+                  [0.43548893680236156, -1.0186172080188955, -2.0111770307675667],
+                  [0.7217470941066857, -0.6511342590176946, -2.2070615737836636],
+                  [0.3456418074447086, 1.3426343767953386, 0.7659708185350822],
+                  [-0.46154130026287, 0.03591235534797854, 1.0217048333585583]])
+    exact = nusselt.view_factor(a, b, method="analytic")
+    assert nusselt.view_factor(a, b, method="contour") == pytest.approx(exact, rel=1e-10)
+    assert nusselt.view_factor(a, b) == pytest.approx(exact, rel=1e-12)

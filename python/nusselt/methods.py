@@ -56,7 +56,7 @@ class Method:
 
 
 TOL = Option(float, 1e-10, "relative accuracy target per unobstructed pair", 1e-15, 0.1)
-NODES = Option(int, 8, "Gauss-Legendre nodes per edge panel", 1, 64)
+NODES = Option(int, 16, "Gauss-Legendre nodes per edge panel", 1, 64)
 SEED = Option(int, 0, "seed of the scrambled low-discrepancy points (results are reproducible)", 0, 2**63)
 SOURCE_AREA = Option(
     object, "auto", "source points on A_i: 'auto' (the source cut along the lines where the visible F has "
