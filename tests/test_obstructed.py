@@ -222,7 +222,7 @@ def test_point_next_to_a_partition(x, px):
     wall = np.array([[x, -0.5, 0.0], [x, 1.5, 0.0], [x, 1.5, 1.0], [x, -0.5, 1.0]])
     for method in EXACT_METHODS + AREA_METHODS:
         f = nusselt.point_view_factor([px, 0.37, 0.0], [0, 0, 1], RECEIVER, obstacles=[wall], method=method)
-        tol = 1e-9 if method in EXACT_METHODS + ["quadrature", "subdivision"] else 2e-3
+        tol = 1e-9 if method in EXACT_METHODS + ["quadrature", "subdivision"] else 1e-4 if method == "montecarlo" else 2e-3
         assert f == pytest.approx(exact, abs=tol), method
 
 def prism(r, n, inward):

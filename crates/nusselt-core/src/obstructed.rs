@@ -409,21 +409,32 @@ pub fn point(ctx: &Context, p: Vec3, n: Vec3, j: usize, m: VisMethod, o: &VisOpt
             }
         }
         VisMethod::MonteCarlo => {
-            let sampler = PolygonSampler::new(b);
+            // strata: the receiver's pieces cut along the blockers' planes, as in the pair form
             let reps = 8usize;
             let per = (o.samples / reps).max(1);
+            let strata: Vec<(PolygonSampler, f64, usize)> = cut_at_blocker_planes(b, &blockers)
+                .iter()
+                .map(|q| (PolygonSampler::new(q), q.area(), ((per as f64 * q.area() / b.area()).round() as usize).max(8)))
+                .collect();
             let mut est = Vec::with_capacity(reps);
             for r in 0..reps {
-                let seed = hash_seed(o.seed, &[j as u64, u64::MAX, r as u64]);
-                let mut acc = 0.0;
-                for k in 0..per {
-                    let u = sobol4(k as u32, seed);
-                    let y = sampler.sample([u[0], u[1]]);
-                    let blocked = !visible(y);
-                    let w = kernel(p, n, y, b.normal());
-                    acc += if o.control_variate { if blocked { w } else { 0.0 } } else if blocked { 0.0 } else { w };
+                let mut mean = 0.0;
+                for (s, (sampler, area, count)) in strata.iter().enumerate() {
+                    let seed = if strata.len() == 1 {
+                        hash_seed(o.seed, &[j as u64, u64::MAX, r as u64])
+                    } else {
+                        hash_seed(o.seed, &[j as u64, u64::MAX, r as u64, s as u64])
+                    };
+                    let mut acc = 0.0;
+                    for k in 0..*count {
+                        let u = sobol4(k as u32, seed);
+                        let y = sampler.sample([u[0], u[1]]);
+                        let blocked = !visible(y);
+                        let w = kernel(p, n, y, b.normal());
+                        acc += if o.control_variate { if blocked { w } else { 0.0 } } else if blocked { 0.0 } else { w };
+                    }
+                    mean += area * acc / *count as f64;
                 }
-                let mean = b.area() * acc / per as f64;
                 est.push(if o.control_variate { lambert - mean } else { mean });
             }
             mean_and_error(&est)
