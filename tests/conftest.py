@@ -8,6 +8,12 @@ def rect(x0, x1, y0, y1, z=0.0, flip=False):
     return v[::-1].copy() if flip else v
 
 
+def polygon_area(p):
+    """Area of a planar polygon (half the length of its Newell normal)."""
+    p = np.asarray(p, dtype=float)
+    return float(np.linalg.norm(0.5 * np.cross(p, np.roll(p, -1, axis=0)).sum(axis=0)))
+
+
 def cube_faces(n=1, size=1.0):
     """A closed cube [0, size]^3 of 6 n x n quads per face, normals pointing inward.
     Returns (polygons, face index of each polygon)."""

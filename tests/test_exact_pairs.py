@@ -2,7 +2,7 @@
 
 import numpy as np
 import pytest
-from conftest import cube_faces, rect
+from conftest import cube_faces, polygon_area, rect
 
 import nusselt
 
@@ -291,11 +291,10 @@ def test_collinear_cut_edges_of_a_piercing_pair():
                   [-1.127313139158209, 1.020802252636832, 1.6316878144170603],
                   [-0.8789435608996794, -0.2840887390717389, 1.0555887713846235],
                   [0.20872140915480758, 1.2986048817155087, -1.2273236040605862]])
-    area = lambda p: 0.5 * np.linalg.norm(sum(np.cross(p[k], p[(k + 1) % len(p)]) for k in range(len(p))))
     f_ab = nusselt.view_factor(a, b, method="analytic")
     f_ba = nusselt.view_factor(b, a, method="analytic")
     assert f_ab == pytest.approx(nusselt.view_factor(a, b, method="contour"), rel=1e-11)
-    assert area(a) * f_ab == pytest.approx(area(b) * f_ba, rel=1e-12)
+    assert polygon_area(a) * f_ab == pytest.approx(polygon_area(b) * f_ba, rel=1e-12)
     assert nusselt.view_factor(a, b) == pytest.approx(f_ab, rel=1e-12)
 
 
@@ -313,5 +312,13 @@ def test_contour_default_nodes_on_a_pair_cut_by_the_others_plane():
                   [0.3456418074447086, 1.3426343767953386, 0.7659708185350822],
                   [-0.46154130026287, 0.03591235534797854, 1.0217048333585583]])
     exact = nusselt.view_factor(a, b, method="analytic")
+    # independent of both: Lambert's point formula integrated over the triangle a (collapsed
+    # Gauss rule; only a's front sees b, as for the pair)
+    x, w = np.polynomial.legendre.leggauss(30)
+    n = np.cross(a[1] - a[0], a[2] - a[0])
+    area, n = 0.5 * np.linalg.norm(n), n / np.linalg.norm(n)
+    lambert = sum(0.25 * w[i] * w[k] * x_u * 2 * area * nusselt.point_view_factor(a[0] + x_u * (a[1] - a[0]) + x_u * x_v * (a[2] - a[1]), n, b)
+                  for i, x_u in enumerate(0.5 * (1 + x)) for k, x_v in enumerate(0.5 * (1 + x)))
+    assert lambert / area == pytest.approx(exact, rel=1e-10)
     assert nusselt.view_factor(a, b, method="contour") == pytest.approx(exact, rel=1e-10)
     assert nusselt.view_factor(a, b) == pytest.approx(exact, rel=1e-12)

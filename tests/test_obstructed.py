@@ -2,7 +2,7 @@
 
 import numpy as np
 import pytest
-from conftest import cube_faces, rect
+from conftest import cube_faces, polygon_area, rect
 from scipy.integrate import dblquad
 
 import nusselt
@@ -142,10 +142,9 @@ def test_clipping_from_both_sides_agrees(i, j):
     # A_j are different integrals of different integrands (kinks at different places).
     polys, _ = room_with_crate(3)
     others = [p for k, p in enumerate(polys) if k not in (i, j)]
-    area = lambda p: 0.5 * np.linalg.norm(sum(np.cross(p[k], p[(k + 1) % len(p)]) for k in range(len(p))))
-    gij = area(polys[i]) * nusselt.view_factor(polys[i], polys[j], obstacles=others, method="clipping", tol=1e-9)
-    gji = area(polys[j]) * nusselt.view_factor(polys[j], polys[i], obstacles=others, method="clipping", tol=1e-9)
-    free = area(polys[i]) * nusselt.view_factor(polys[i], polys[j])
+    gij = polygon_area(polys[i]) * nusselt.view_factor(polys[i], polys[j], obstacles=others, method="clipping", tol=1e-9)
+    gji = polygon_area(polys[j]) * nusselt.view_factor(polys[j], polys[i], obstacles=others, method="clipping", tol=1e-9)
+    free = polygon_area(polys[i]) * nusselt.view_factor(polys[i], polys[j])
     assert gij < free
     # Kinks along lines (blocker planes, parallel-edge planes) are split off exactly; kinks
     # along curved EEE event surfaces are refined adaptively: agreement ~1e-9..1e-6 relative.
@@ -260,11 +259,10 @@ def test_blocked_cylinder_identity(r1, r2):
     # faceted geometry too. Every sphere facet pair is partly hidden by up to 8 walls.
     inner, outer = prism(r1, 8, inward=False), prism(r2, 8, inward=True)
     sphere = uv_sphere(3.0, 12, 6, np.array([0.0, 0.0, 0.5]))
-    area = lambda p: 0.5 * np.linalg.norm(sum(np.cross(p[k], p[(k + 1) % len(p)]) for k in range(len(p))))
-    a_in = sum(area(p) for p in inner)
-    to_outer = sum(area(p) * nusselt.view_factor(p, q) for p in inner for q in outer) / a_in
+    a_in = sum(polygon_area(p) for p in inner)
+    to_outer = sum(polygon_area(p) * nusselt.view_factor(p, q) for p in inner for q in outer) / a_in
     for method in EXACT_METHODS:
-        to_sphere = sum(area(p) * nusselt.view_factor(p, s, obstacles=outer, method=method)
+        to_sphere = sum(polygon_area(p) * nusselt.view_factor(p, s, obstacles=outer, method=method)
                         for p in inner for s in sphere) / a_in
         assert 0.05 < to_sphere < 0.4
         assert to_sphere == pytest.approx(1.0 - to_outer, abs=1e-6), method

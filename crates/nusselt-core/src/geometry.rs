@@ -155,6 +155,61 @@ pub(crate) fn join_convex<P: Copy + PartialEq>(s: &[P], t: &[P], turn: impl Fn(P
     None
 }
 
+/// Joins edge-adjacent outlines greedily, for occluders (coplanar tiles) and for shadows (of
+/// tiles): each live outline in turn takes in neighbours across its edges (an outline that
+/// has the edge the other way round, found by the end points' `key`) while
+/// `join(g, h, outline g, outline h)` gives their union, in passes until nothing joins (a row
+/// of tiles becomes a strip in one pass, neighbouring strips join in the next). Returns each
+/// outline's group: itself while alive, else the outline it went into (follow to the root);
+/// the outlines that went into another are left empty.
+pub(crate) fn join_adjacent<P: Copy + PartialEq, K: std::hash::Hash + Eq>(
+    outline: &mut [Vec<P>],
+    key: impl Fn(P) -> K,
+    mut join: impl FnMut(usize, usize, &[P], &[P]) -> Option<Vec<P>>,
+) -> Vec<usize> {
+    let n = outline.len();
+    let mut parent: Vec<usize> = (0..n).collect();
+    // directed edge -> the outline that had it when it was recorded (checked on use)
+    let mut edges: std::collections::HashMap<(K, K), usize> = std::collections::HashMap::new();
+    let record = |edges: &mut std::collections::HashMap<(K, K), usize>, g: usize, v: &[P]| {
+        for k in 0..v.len() {
+            edges.insert((key(v[k]), key(v[(k + 1) % v.len()])), g);
+        }
+    };
+    for (g, v) in outline.iter().enumerate() {
+        record(&mut edges, g, v);
+    }
+    let has_edge = |v: &[P], a: P, b: P| (0..v.len()).any(|k| v[k] == a && v[(k + 1) % v.len()] == b);
+    loop {
+        let mut joined = false;
+        for g in 0..n {
+            if parent[g] != g {
+                continue;
+            }
+            while let Some((h, u)) = {
+                let v = &outline[g];
+                (0..v.len()).find_map(|k| {
+                    let (a, b) = (v[k], v[(k + 1) % v.len()]);
+                    let &h = edges.get(&(key(b), key(a)))?;
+                    if h == g || parent[h] != h || !has_edge(&outline[h], b, a) {
+                        return None;
+                    }
+                    Some((h, join(g, h, v, &outline[h])?))
+                })
+            } {
+                parent[h] = g;
+                outline[h] = Vec::new();
+                record(&mut edges, g, &u);
+                outline[g] = u;
+                joined = true;
+            }
+        }
+        if !joined {
+            return parent;
+        }
+    }
+}
+
 /// Newell's normal: a vector along the polygon normal whose length is twice the area.
 /// Exact for planar polygons, convex or concave, and robust for nearly degenerate ones.
 pub fn newell_normal(v: &[Vec3]) -> Vec3 {

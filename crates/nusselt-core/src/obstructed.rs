@@ -414,17 +414,13 @@ pub fn point(ctx: &Context, p: Vec3, n: Vec3, j: usize, m: VisMethod, o: &VisOpt
             let per = (o.samples / reps).max(1);
             let strata: Vec<(PolygonSampler, f64, usize)> = cut_at_blocker_planes(b, &blockers)
                 .iter()
-                .map(|q| (PolygonSampler::new(q), q.area(), ((per as f64 * q.area() / b.area()).round() as usize).max(8)))
+                .map(|q| (PolygonSampler::new(q), q.area(), stratum_samples(per, q.area() / b.area())))
                 .collect();
             let mut est = Vec::with_capacity(reps);
             for r in 0..reps {
                 let mut mean = 0.0;
                 for (s, (sampler, area, count)) in strata.iter().enumerate() {
-                    let seed = if strata.len() == 1 {
-                        hash_seed(o.seed, &[j as u64, u64::MAX, r as u64])
-                    } else {
-                        hash_seed(o.seed, &[j as u64, u64::MAX, r as u64, s as u64])
-                    };
+                    let seed = stratum_seed(o.seed, [j as u64, u64::MAX, r as u64], s, strata.len());
                     let mut acc = 0.0;
                     for k in 0..*count {
                         let u = sobol4(k as u32, seed);
@@ -453,7 +449,7 @@ fn quadrature(a: &Polygon, b: &Polygon, pred: Option<&dyn Fn(Vec3, Vec3) -> bool
     let rules = |p: &Polygon| -> Vec<AreaRule> {
         cut_at_blocker_planes(p, blockers)
             .iter()
-            .map(|q| AreaRule::new(q, ((o.order as f64 * (q.area() / p.area()).sqrt()).ceil() as usize).clamp(2.min(o.order), o.order)))
+            .map(|q| AreaRule::new(q, per_direction(o.order, q.area() / p.area()).clamp(2.min(o.order), o.order)))
             .collect()
     };
     let (ra, rb) = (rules(a), rules(b));
@@ -511,6 +507,24 @@ fn cut_at_blocker_planes(p: &Polygon, blockers: &[&Polygon]) -> Vec<Polygon> {
     pieces.into_iter().filter_map(|v| Polygon::new(v).ok()).collect()
 }
 
+/// A count per direction (Gauss order, divisions) for a piece holding `fraction` of its
+/// polygon's area: about as many points per unit area as `n` gives the whole.
+fn per_direction(n: usize, fraction: f64) -> usize {
+    (n as f64 * fraction.sqrt()).ceil() as usize
+}
+
+/// Samples of a stratum holding `fraction` of the whole's `n` (at least 8).
+fn stratum_samples(n: usize, fraction: f64) -> usize {
+    ((n as f64 * fraction).round() as usize).max(8)
+}
+
+/// The scrambling seed of stratum `s` (of `strata`) for `key`: the key's own seed when there
+/// is one stratum, so unstratified results stay as they were.
+fn stratum_seed(seed: u64, key: [u64; 3], s: usize, strata: usize) -> u64 {
+    let k = [key[0], key[1], key[2], s as u64];
+    hash_seed(seed, &k[..if strata == 1 { 3 } else { 4 }])
+}
+
 /// Area-to-area RQMC: 8 independent Owen scramblings of a 4-D Sobol sequence; the spread of
 /// the 8 estimates gives the standard error.
 fn montecarlo(a: &Polygon, b: &Polygon, pred: Option<&dyn Fn(Vec3, Vec3) -> bool>, blockers: &[&Polygon], o: &VisOptions, i: usize, j: usize) -> Estimate {
@@ -525,7 +539,7 @@ fn montecarlo(a: &Polygon, b: &Polygon, pred: Option<&dyn Fn(Vec3, Vec3) -> bool
         .flat_map(|x| pb.iter().map(move |y| (x, y)))
         .map(|(x, y)| {
             let share = x.area() * y.area() / (a.area() * b.area());
-            (PolygonSampler::new(x), PolygonSampler::new(y), x.area() * y.area(), ((per as f64 * share).round() as usize).max(8))
+            (PolygonSampler::new(x), PolygonSampler::new(y), x.area() * y.area(), stratum_samples(per, share))
         })
         .collect();
     let mut est = Vec::with_capacity(reps);
@@ -533,11 +547,7 @@ fn montecarlo(a: &Polygon, b: &Polygon, pred: Option<&dyn Fn(Vec3, Vec3) -> bool
         let mut total = 0.0;
         for (s, (sa, sb, area, n)) in strata.iter().enumerate() {
             // every pair gets its own scrambling: results do not depend on the order of pairs
-            let seed = if strata.len() == 1 {
-                hash_seed(o.seed, &[i as u64, j as u64, r as u64])
-            } else {
-                hash_seed(o.seed, &[i as u64, j as u64, r as u64, s as u64])
-            };
+            let seed = stratum_seed(o.seed, [i as u64, j as u64, r as u64], s, strata.len());
             let mut acc = 0.0;
             for k in 0..*n {
                 let u = sobol4(k as u32, seed);
@@ -601,7 +611,7 @@ fn subdivide_at_blockers(b: &Polygon, blockers: &[&Polygon], d: usize) -> Vec<[V
     if parts.len() == 1 {
         return subdivide(b, d);
     }
-    parts.iter().flat_map(|q| subdivide(q, ((d as f64 * (q.area() / b.area()).sqrt()).ceil() as usize).max(1))).collect()
+    parts.iter().flat_map(|q| subdivide(q, per_direction(d, q.area() / b.area()).max(1))).collect()
 }
 
 fn centroid3(t: &[Vec3; 3]) -> Vec3 {

@@ -9,8 +9,7 @@
 //! polygon's plane, and a segment from a point in front of a plane to a point on it (or the
 //! other way round) meets the plane only at its end.
 
-use crate::geometry::{join_convex, Polygon, Vec3};
-use std::collections::HashMap;
+use crate::geometry::{join_adjacent, join_convex, Polygon, Vec3};
 
 /// Largest distance of a joined polygon's vertices from the other's plane, relative to the
 /// size of the two: meshes of a flat face have their vertices on the plane up to rounding.
@@ -32,29 +31,14 @@ pub struct Occluders {
 }
 
 impl Occluders {
-    /// Joins `polys` greedily: each polygon in turn takes in neighbours across its edges
-    /// while the union stays convex, in passes until nothing joins (a row of tiles becomes a
-    /// strip in one pass, neighbouring strips join in the next).
+    /// Joins `polys` greedily where coplanar, same-facing neighbours have a convex union
+    /// ([`join_adjacent`]).
     pub fn new(polys: &[Polygon]) -> Occluders {
         let n = polys.len();
         let mut outline: Vec<Vec<Vec3>> = polys.iter().map(|p| p.vertices().to_vec()).collect();
         // each group's polygon once it has joined something (validated when joined)
         let mut joined_poly: Vec<Option<Polygon>> = vec![None; n];
         let normal: Vec<Vec3> = polys.iter().map(|p| p.normal()).collect();
-        // union-find parent of each group; a group is alive while it is its own root
-        let mut parent: Vec<usize> = (0..n).collect();
-        let key = |a: Vec3, b: Vec3| [a.x, a.y, a.z, b.x, b.y, b.z].map(f64::to_bits);
-        // directed edge -> the group whose outline had it when it was recorded (checked on use)
-        let mut edges: HashMap<[u64; 6], usize> = HashMap::new();
-        let record = |edges: &mut HashMap<[u64; 6], usize>, g: usize, v: &[Vec3]| {
-            for k in 0..v.len() {
-                edges.insert(key(v[k], v[(k + 1) % v.len()]), g);
-            }
-        };
-        for g in 0..n {
-            record(&mut edges, g, &outline[g]);
-        }
-        let has_edge = |v: &[Vec3], a: Vec3, b: Vec3| (0..v.len()).any(|k| v[k] == a && v[(k + 1) % v.len()] == b);
         let coplanar = |g: &[Vec3], ng: Vec3, h: &[Vec3], nh: Vec3| {
             if ng.dot(nh) < 1.0 - 1e-12 {
                 return false;
@@ -67,45 +51,22 @@ impl Occluders {
             let tol = COPLANAR_TOL * (hi - lo).length();
             h.iter().all(|v| ng.dot(*v - g[0]).abs() <= tol) && g.iter().all(|v| nh.dot(*v - h[0]).abs() <= tol)
         };
-        loop {
-            let mut joined = false;
-            for g in 0..n {
-                if parent[g] != g {
-                    continue;
-                }
-                // take in neighbours across g's edges while one joins
-                while let Some((h, u, poly)) = {
-                    let v = &outline[g];
-                    let ng = normal[g];
-                    let turn = |p: Vec3, q: Vec3, r: Vec3| {
-                        let (e, f) = (q - p, r - q);
-                        (e.cross(f).dot(ng), e.dot(f), e.length() * f.length())
-                    };
-                    (0..v.len()).find_map(|k| {
-                        let (a, b) = (v[k], v[(k + 1) % v.len()]);
-                        let &h = edges.get(&key(b, a))?;
-                        if h == g || parent[h] != h || !has_edge(&outline[h], b, a) || !coplanar(v, ng, &outline[h], normal[h]) {
-                            return None;
-                        }
-                        let u = join_convex(v, &outline[h], turn, STRAIGHT_TOL)?;
-                        // the union must be a valid polygon in its own right
-                        let poly = Polygon::with_tolerance(u.clone(), 1e-9).ok()?;
-                        Some((h, u, poly))
-                    })
-                } {
-                    parent[h] = g;
-                    outline[h] = Vec::new();
-                    joined_poly[h] = None;
-                    record(&mut edges, g, &u);
-                    outline[g] = u;
-                    joined_poly[g] = Some(poly);
-                    joined = true;
-                }
+        // union-find parent of each group; a group is alive while it is its own root
+        let parent = join_adjacent(&mut outline, |a: Vec3| a.to_array().map(f64::to_bits), |g, h, v, w| {
+            let ng = normal[g];
+            if !coplanar(v, ng, w, normal[h]) {
+                return None;
             }
-            if !joined {
-                break;
-            }
-        }
+            let turn = |p: Vec3, q: Vec3, r: Vec3| {
+                let (e, f) = (q - p, r - q);
+                (e.cross(f).dot(ng), e.dot(f), e.length() * f.length())
+            };
+            let u = join_convex(v, w, turn, STRAIGHT_TOL)?;
+            // the union must be a valid polygon in its own right
+            joined_poly[g] = Some(Polygon::with_tolerance(u.clone(), 1e-9).ok()?);
+            joined_poly[h] = None;
+            Some(u)
+        });
         let root = |mut g: usize| {
             while parent[g] != g {
                 g = parent[g];

@@ -11,7 +11,7 @@
 //! Blockers are opaque from both sides, whichever way they face (View3D ignores blockers that
 //! face the wrong way; reference-cases.md). Every tolerance is relative to the geometry.
 
-use crate::geometry::{clip_to_halfspace, newell_normal, tangent_frame, Polygon, Vec3};
+use crate::geometry::{clip_to_halfspace, join_adjacent, newell_normal, tangent_frame, Polygon, Vec3};
 use std::borrow::Cow;
 use std::cell::RefCell;
 use i_overlay::core::fill_rule::FillRule;
@@ -248,6 +248,12 @@ fn shadowed_convex(p: Vec3, n: Vec3, cast: &Cast) -> Option<f64> {
         return None;
     }
     let free = || crate::analytic::point_contour(p, n, &cast.rec).max(0.0);
+    // Lambert over a 2-D piece, through the buffer `piece3` for its 3-D outline
+    let lambert = |piece: &[[f64; 2]], piece3: &mut Vec<Vec3>| {
+        piece3.clear();
+        piece3.extend(piece.iter().map(|u| cast.frame.to3d(*u)));
+        crate::analytic::point_contour(p, n, piece3)
+    };
     SCRATCH.with(|cell| {
         let mut guard = cell.borrow_mut();
         let Scratch { pieces, split, a, b, c, piece3, order } = &mut *guard;
@@ -283,9 +289,7 @@ fn shadowed_convex(p: Vec3, n: Vec3, cast: &Cast) -> Option<f64> {
             if covers {
                 return Some(free());
             }
-            piece3.clear();
-            piece3.extend(a.iter().map(|u| cast.frame.to3d(*u)));
-            return Some(crate::analytic::point_contour(p, n, piece3).max(0.0));
+            return Some(lambert(a, piece3).max(0.0));
         }
         order.clear();
         order.extend(shadows.iter().enumerate().map(|(k, s)| (signed_area(s), k)));
@@ -308,12 +312,7 @@ fn shadowed_convex(p: Vec3, n: Vec3, cast: &Cast) -> Option<f64> {
         if !cut {
             return Some(0.0);
         }
-        let mut lit = 0.0;
-        for i in 0..pieces.len() {
-            piece3.clear();
-            piece3.extend(pieces.get(i).iter().map(|u| cast.frame.to3d(*u)));
-            lit += crate::analytic::point_contour(p, n, piece3);
-        }
+        let lit: f64 = (0..pieces.len()).map(|i| lambert(pieces.get(i), piece3)).sum();
         Some((free() - lit.max(0.0)).max(0.0))
     })
 }
@@ -364,53 +363,17 @@ thread_local! {
 /// From this many shadows on, [`shadowed_convex`] first joins the shadows of edge-adjacent
 /// tiles: many shadows are usually a meshed blocker's tiles, whose one-by-one subtraction
 /// cuts the visible part into ever more slivers (20 x 20 tiles over a square: 706 us per
-/// point without joining, 131 with), while joining costs more than it saves for a few
-/// dozen overlapping shadows (the walls of two coaxial prisms: 5 us per point, 8 with).
+/// point without joining, 222 with), while joining costs more than it saves for a few
+/// dozen overlapping shadows (the walls of two coaxial prisms: 4.5 us per point, 13 with).
 const MERGE_FROM: usize = 32;
 
 /// Joins shadows that share an edge (the same two points, in opposite directions: tiles of
 /// a meshed blocker cast such shadows, bit for bit) wherever the union is convex, so that a
-/// meshed face casts one shadow instead of one per tile. Shared edges are found by sorting
-/// all edges by their end points; rounds repeat while joins happen, as a grown shadow may
-/// share a whole edge with one it did not before.
+/// meshed face casts one shadow instead of one per tile ([`join_adjacent`], as for occluders).
 fn merge_adjacent(shadows: &mut Vec<Cow<'_, [[f64; 2]]>>) {
-    type Key = (u64, u64);
-    let key = |p: [f64; 2]| -> Key { (p[0].to_bits(), p[1].to_bits()) };
-    let mut edges: Vec<(Key, Key, u32)> = Vec::new();
-    let mut alive: Vec<bool> = Vec::new();
-    loop {
-        if shadows.len() < 2 {
-            return;
-        }
-        edges.clear();
-        for (k, s) in shadows.iter().enumerate() {
-            for e in 0..s.len() {
-                let (u, v) = (key(s[e]), key(s[(e + 1) % s.len()]));
-                edges.push((u.min(v), u.max(v), k as u32));
-            }
-        }
-        edges.sort_unstable();
-        alive.clear();
-        alive.resize(shadows.len(), true);
-        let mut joined = false;
-        for w in 0..edges.len().saturating_sub(1) {
-            let ((u0, v0, a), (u1, v1, b)) = (edges[w], edges[w + 1]);
-            let (a, b) = (a as usize, b as usize);
-            if u0 != u1 || v0 != v1 || a == b || !alive[a] || !alive[b] {
-                continue;
-            }
-            if let Some(u) = join(&shadows[a], &shadows[b]) {
-                shadows[a] = Cow::Owned(u);
-                alive[b] = false;
-                joined = true;
-            }
-        }
-        if !joined {
-            return;
-        }
-        let mut k = 0;
-        shadows.retain(|_| (alive[k], k += 1).0);
-    }
+    let mut outline: Vec<Vec<[f64; 2]>> = shadows.iter().map(|s| s.to_vec()).collect();
+    let group = join_adjacent(&mut outline, |p: [f64; 2]| p.map(f64::to_bits), |_, _, s, t| join(s, t));
+    *shadows = outline.into_iter().zip(group).enumerate().filter(|(k, (_, g))| g == k).map(|(_, (o, _))| Cow::Owned(o)).collect();
 }
 
 /// The union of the convex counter-clockwise polygons s and t if they share an edge and the

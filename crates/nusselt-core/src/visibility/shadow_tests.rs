@@ -459,6 +459,28 @@ fn convex_path_special_cases() {
 }
 
 #[test]
+fn edge_adjacent_shadows_join_where_the_union_is_convex() {
+    let sq = |x: f64, y: f64| vec![[x, y], [x + 1.0, y], [x + 1.0, y + 1.0], [x, y + 1.0]];
+    // a 3 x 3 grid of tiles: one square with its four corners only
+    let mut grid: Vec<Cow<[[f64; 2]]>> = (0..9).map(|k| Cow::Owned(sq((k % 3) as f64, (k / 3) as f64))).collect();
+    merge_adjacent(&mut grid);
+    assert_eq!(grid.len(), 1);
+    let mut corners = grid[0].to_vec();
+    corners.sort_by(|a, b| a.partial_cmp(b).unwrap());
+    assert_eq!(corners, vec![[0.0, 0.0], [0.0, 3.0], [3.0, 0.0], [3.0, 3.0]]);
+    // an L of three tiles: its union is not convex, so two shadows remain (same total area)
+    let mut ell: Vec<Cow<[[f64; 2]]>> = vec![sq(0.0, 0.0).into(), sq(1.0, 0.0).into(), sq(0.0, 1.0).into()];
+    merge_adjacent(&mut ell);
+    assert_eq!(ell.len(), 2);
+    assert!(ell.iter().all(|s| is_convex(s)));
+    assert_eq!(ell.iter().map(|s| signed_area(s)).sum::<f64>(), 3.0);
+    // a shared point or a partly shared edge (T-junction) is no joint
+    let mut apart: Vec<Cow<[[f64; 2]]>> = vec![sq(0.0, 0.0).into(), sq(1.0, 1.0).into(), vec![[1.0, -0.5], [2.0, -0.5], [2.0, 0.5], [1.0, 0.5]].into()];
+    merge_adjacent(&mut apart);
+    assert_eq!(apart.len(), 3);
+}
+
+#[test]
 fn meshed_and_nested_shadows_in_the_convex_path() {
     // shadows of a meshed blocker in the convex path: the same F as the boolean
     let f = floor();
@@ -467,6 +489,15 @@ fn meshed_and_nested_shadows_in_the_convex_path() {
         .collect();
     let refs: Vec<&Polygon> = tiles.iter().collect();
     let c = cast(P, DOWN, &f, &refs).unwrap();
+    let (fast, slow) = (shadowed_convex(P, DOWN, &c).unwrap(), shadowed_boolean(P, DOWN, &c));
+    assert!((fast - slow).abs() < 1e-14 && slow > 0.1, "{fast} vs {slow}");
+    // 6 x 6 tiles: enough shadows to be joined first (MERGE_FROM)
+    let fine: Vec<Polygon> = (0..36)
+        .map(|k| rect(2, 0.5, (0.3 + 0.06 * (k % 6) as f64, 0.36 + 0.06 * (k % 6) as f64), (0.3 + 0.06 * (k / 6) as f64, 0.36 + 0.06 * (k / 6) as f64), k % 5 == 0))
+        .collect();
+    let refs: Vec<&Polygon> = fine.iter().collect();
+    let c = cast(P, DOWN, &f, &refs).unwrap();
+    assert!(c.shadows.len() >= MERGE_FROM);
     let (fast, slow) = (shadowed_convex(P, DOWN, &c).unwrap(), shadowed_boolean(P, DOWN, &c));
     assert!((fast - slow).abs() < 1e-14 && slow > 0.1, "{fast} vs {slow}");
     // the walls of two coaxial open prisms standing on the receiver: 24 shadows, nested and
