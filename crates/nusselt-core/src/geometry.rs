@@ -331,6 +331,25 @@ fn self_intersection(v: &[Vec3], n: Vec3) -> Option<(usize, usize)> {
     None
 }
 
+/// Distance between the segments p→q and r→s (Ericson, Real-Time Collision Detection, 5.1.9).
+pub fn segment_distance(p: Vec3, q: Vec3, r: Vec3, s: Vec3) -> f64 {
+    let (d1, d2, w) = (q - p, s - r, p - r);
+    let (a, e, f) = (d1.dot(d1), d2.dot(d2), d2.dot(w));
+    let c = d1.dot(w);
+    let b = d1.dot(d2);
+    let denom = a * e - b * b;
+    let mut sp = if denom > 1e-14 * a * e { ((b * f - c * e) / denom).clamp(0.0, 1.0) } else { 0.0 };
+    let mut tp = (b * sp + f) / e;
+    if tp < 0.0 {
+        tp = 0.0;
+        sp = (-c / a).clamp(0.0, 1.0);
+    } else if tp > 1.0 {
+        tp = 1.0;
+        sp = ((b - c) / a).clamp(0.0, 1.0);
+    }
+    (p + d1 * sp).distance(r + d2 * tp)
+}
+
 /// Ear-clipping triangulation of a simple planar polygon (convex or concave).
 pub fn triangulate(v: &[Vec3], n: Vec3) -> Vec<[usize; 3]> {
     let m = v.len();

@@ -49,18 +49,30 @@ pub fn point_polygon(p: Vec3, n: Vec3, poly: &[Vec3]) -> f64 {
 /// contour (a hole) gives the negative of its area's factor, so summing over the contours of a
 /// region with holes gives the region's factor. Edges through p contribute 0.
 pub fn point_contour(p: Vec3, n: Vec3, contour: &[Vec3]) -> f64 {
+    point_contour_terms(p, n, contour).0
+}
+
+/// [`point_contour`] and the sum of its terms' magnitudes (same scale): the sum's rounding is
+/// a few eps times the latter, which exceeds F where the terms cancel (p near the contour's
+/// plane, or far from a small contour).
+pub fn point_contour_terms(p: Vec3, n: Vec3, contour: &[Vec3]) -> (f64, f64) {
     let m = contour.len();
     let mut sum = 0.0;
+    let mut mag = 0.0;
     for k in 0..m {
         let a = contour[k] - p;
-        let b = contour[(k + 1) % m] - p;
-        let c = a.cross(b);
+        let e = contour[(k + 1) % m] - contour[k];
+        // a x b = a x e and a . b = a . a + a . e: for an edge far from p (or seen end-on)
+        // a x b cancels to the edge's size; a x e never does.
+        let c = a.cross(e);
         let len = c.length();
         if len > 0.0 {
-            sum += len.atan2(a.dot(b)) * n.dot(c) / len;
+            let t = len.atan2(a.dot(a) + a.dot(e)) * n.dot(c) / len;
+            sum += t;
+            mag += t.abs();
         }
     }
-    -sum / TAU
+    (-sum / TAU, mag / TAU)
 }
 
 #[cfg(test)]
