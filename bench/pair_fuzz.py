@@ -2,36 +2,24 @@
 position (triangles, convex and concave polygons, rotated, scaled and placed at random, so
 that many pairs pierce or are cut by each other's plane).
 
-    python bench/pair_fuzz.py [--seed S] [--pairs N] [--floor F]
+    python bench/pair_fuzz.py [--seed S] [--pairs N] [--floor F] [--reference]
 
 Prints every pair whose analytic, contour and auto values spread by more than 1e-10
 relative (pairs with F above --floor, default 1e-6), and the worst spread. A spread names no
-culprit: judge it against an independent reference (Lambert's point formula integrated over
-the source, for instance).
+culprit; with --reference each method is judged against the 40-digit reference of
+tests/pair_reference.py instead (every pair with F > 0), printing errors above 1e-10.
 """
 
 import argparse
-
-import numpy as np
+import sys
+from pathlib import Path
 
 import nusselt
 
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "tests"))
+from pair_reference import random_pairs, view_factor_mp  # noqa: E402
 
-def random_polygon(rng):
-    kind = rng.choice(["triangle", "convex", "concave"])
-    if kind == "triangle":
-        v2 = rng.uniform(-1, 1, (3, 2))
-        if (v2[1, 0] - v2[0, 0]) * (v2[2, 1] - v2[0, 1]) - (v2[1, 1] - v2[0, 1]) * (v2[2, 0] - v2[0, 0]) < 0:
-            v2 = v2[::-1]
-    else:
-        m = rng.integers(5, 9) if kind == "concave" else rng.integers(3, 7)
-        ang = np.sort(rng.uniform(0, 2 * np.pi, m))
-        r = rng.uniform(0.3, 1, m) if kind == "concave" else np.ones(m)
-        if kind == "concave":
-            r[::2] *= 0.4
-        v2 = np.c_[r * np.cos(ang), r * np.sin(ang)]
-    q, _ = np.linalg.qr(rng.normal(size=(3, 3)))
-    return (np.c_[v2, np.zeros(len(v2))] * rng.uniform(0.2, 2)) @ q.T + rng.normal(size=3) * rng.uniform(0, 2)
+METHODS = ("analytic", "contour", "auto")
 
 
 def main():
@@ -39,22 +27,34 @@ def main():
     ap.add_argument("--seed", type=int, default=3)
     ap.add_argument("--pairs", type=int, default=1500)
     ap.add_argument("--floor", type=float, default=1e-6)
+    ap.add_argument("--reference", action="store_true",
+                    help="judge each method against the 40-digit reference (about 0.3 s a pair)")
     args = ap.parse_args()
-    rng = np.random.default_rng(args.seed)
-    worst, tried = (0.0, None), 0
-    for k in range(args.pairs):
-        a, b = random_polygon(rng), random_polygon(rng)
+    worst, tried = {}, 0
+    for k, a, b in random_pairs(args.seed, args.pairs):
         try:
-            vals = [nusselt.view_factor(a, b, method=m) for m in ("analytic", "contour", "auto")]
+            vals = [nusselt.view_factor(a, b, method=m) for m in METHODS]
         except ValueError:
             continue  # a random outline that crosses itself
         tried += 1
-        if vals[0] > args.floor:
-            spread = (max(vals) - min(vals)) / vals[0]
-            if spread > 1e-10:
-                print(f"pair {k}: F {vals[0]:.3e}, analytic/contour/auto spread {spread:.1e}")
-            worst = max(worst, (spread, k), key=lambda t: t[0])
-    print(f"{tried} pairs, worst relative spread {worst[0]:.1e} (pair {worst[1]})")
+        if args.reference:
+            want = float(view_factor_mp(a, b))
+            if want == 0.0:
+                continue
+            errs = {m: abs(v - want) / want for m, v in zip(METHODS, vals)}
+            if max(errs.values()) > 1e-10:
+                print(f"pair {k}: F {want:.3e}, " + ", ".join(f"{m} {e:.1e}" for m, e in errs.items()))
+        elif vals[0] > args.floor:
+            errs = {"spread": (max(vals) - min(vals)) / vals[0]}
+            if errs["spread"] > 1e-10:
+                print(f"pair {k}: F {vals[0]:.3e}, analytic/contour/auto spread {errs['spread']:.1e}")
+        else:
+            continue
+        for m, e in errs.items():
+            if e > worst.get(m, (0.0, None))[0]:
+                worst[m] = (e, k)
+    print(f"{tried} pairs; worst relative " + ("error" if args.reference else "spread") + ": "
+          + ", ".join(f"{m} {e:.1e} (pair {k})" for m, (e, k) in worst.items()))
 
 
 if __name__ == "__main__":
