@@ -3,7 +3,7 @@
 
 pub mod closed_forms;
 pub mod lambert;
-pub mod lambert_area;
+pub mod area_routes;
 pub mod polygon_pair;
 
 pub use lambert::{point_contour, point_polygon};

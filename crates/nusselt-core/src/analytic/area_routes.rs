@@ -1,16 +1,18 @@
-//! A_s F_st as Lambert's exact point form integrated over the source by adaptive Gauss:
-//!
-//!   A_s F_st = int_s F(dA_x -> t) dA_x,  F(dA_x -> t) by [`point_contour`].
-//!
-//! The well-conditioned route for pairs whose double contour sum cancels heavily (a polygon
+//! Well-conditioned area routes for pairs whose double contour sum cancels heavily (a polygon
 //! clipped to a sliver, or a pair far apart compared with its size). The contour sum adds
 //! edge-pair terms of the size of the edges' product that cancel down to the pair's G, so its
-//! rounding is relative to the terms, not to G (algorithms.md 1.2); here the integrand is
-//! F(dA_x -> t) >= 0, rounded relative to itself up to the cancellation inside Lambert's sum
-//! (about the ratio of t's distance to its size), and the quadrature adds positive terms.
-//! The integrand is analytic away from t, so Gauss converges geometrically on a source that
-//! does not touch the target; a pair that does touch is refused (None) once the budget is
-//! spent, and the caller keeps its closed form.
+//! rounding is relative to the terms, not to G (algorithms.md 1.2). The routes add terms of
+//! one sign instead:
+//!
+//! * far apart: the double area integral of cos cos / (pi r^2) by tensor Gauss, accepted when
+//!   two orders agree to 1e-14 (the kernel is analytic and positive; every term is rounded
+//!   relative to itself, also for grazing pairs where Lambert's sum still cancels);
+//! * otherwise Lambert's exact point form integrated over the source by adaptive Gauss,
+//!   A_s F_st = int_s F(dA_x -> t) dA_x, F(dA_x -> t) >= 0 by [`point_contour`], rounded
+//!   relative to itself up to the cancellation inside Lambert's sum (about the ratio of t's
+//!   distance to its size). The integrand is analytic away from t, so Gauss converges
+//!   geometrically on a source that does not touch the target; a pair that does touch is
+//!   refused and the caller keeps its closed form.
 
 use super::lambert::point_contour_terms;
 use crate::geometry::{bounding_diameter, segment_distance, Vec3};
@@ -36,8 +38,52 @@ pub fn if_cancelling(pa: &[Vec3], na: Vec3, pb: &[Vec3], nb: Vec3, sum: f64, mag
     if !(ratio > ILL_CONDITIONED) || touching(pa, pb) {
         return None;
     }
+    if far * far > ILL_CONDITIONED {
+        if let Some(g) = area_area(pa, na, pb, nb) {
+            return Some(g);
+        }
+    }
     let (src, n, tgt) = if da <= db { (pa, na, pb) } else { (pb, nb, pa) };
     lambert_over_area(src, n, tgt, 1e-14)
+}
+
+/// Collapsed Gauss points and weights (order per direction) on the signed fan of `p`.
+fn fan_rule(p: &[Vec3], n: Vec3, order: usize) -> Vec<(Vec3, f64)> {
+    let rule = gauss_legendre(order);
+    let mut out = Vec::with_capacity((p.len() - 2) * order * order);
+    for k in 1..p.len() - 1 {
+        let (a, b, c) = (p[0], p[k], p[k + 1]);
+        let twice = (b - a).cross(c - a).dot(n);
+        for &(s, ws) in rule {
+            for &(r, wr) in rule {
+                out.push((a + s * (b - a) + (s * r) * (c - b), ws * wr * s * twice));
+            }
+        }
+    }
+    out
+}
+
+/// A_a F_ab as the double area integral of cos_a cos_b / (pi r^2) over the (clipped) outlines
+/// by tensor Gauss of orders 6 and 8 per direction: Some when they agree to 1e-14 (a pair
+/// far apart compared with its size), None otherwise. Signed fans keep concave outlines
+/// exact: the kernel stays analytic and non-negative over each outline's convex hull.
+fn area_area(pa: &[Vec3], na: Vec3, pb: &[Vec3], nb: Vec3) -> Option<f64> {
+    let g = |order: usize| {
+        let (ra, rb) = (fan_rule(pa, na, order), fan_rule(pb, nb, order));
+        let mut acc = 0.0;
+        for &(x, wx) in &ra {
+            let mut row = 0.0;
+            for &(y, wy) in &rb {
+                let d = y - x;
+                let r2 = d.length_squared();
+                row += wy * na.dot(d) * (-nb.dot(d)) / (r2 * r2);
+            }
+            acc += wx * row;
+        }
+        acc / std::f64::consts::PI
+    };
+    let (lo, hi) = (g(6), g(8));
+    (hi > 0.0 && (hi - lo).abs() <= 1e-14 * hi).then_some(hi)
 }
 
 /// Whether any edges of the two outlines meet or nearly meet (relative to the smaller one):
