@@ -85,13 +85,16 @@ METHODS: dict[str, Method] = {
     "analytic": Method(
         "analytic",
         "closed form: Lambert's formula for a point, Narayanaswamy's edge-pair formula (exact limits "
-        "for touching edges) for two polygons; assumes nothing is in between",
+        "for touching edges) for two polygons; where the edge-pair terms cancel by more than 2e3 (slivers, "
+        "pairs far apart) an area route with terms of one sign (Gauss on both areas, or Lambert integrated "
+        "over the smaller polygon) to 1e-14; assumes nothing is in between",
         obstructed=False,
     ),
     "contour": Method(
         "contour",
         "double contour (Stokes) integral: exact inner line integral, Gauss-Legendre outer integral on "
-        "graded panels, exact closed form where edges touch; assumes nothing is in between",
+        "graded panels, exact closed form where edges touch; sums that cancel by more than 2e3 take the same "
+        "area route as analytic; assumes nothing is in between",
         obstructed=False,
         options={"nodes": NODES},
     ),
