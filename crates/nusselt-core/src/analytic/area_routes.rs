@@ -23,13 +23,14 @@ use crate::quadrature::gauss_legendre;
 /// ratio (random pairs against 40-digit references): 6e-11 at this bound.
 const ILL_CONDITIONED: f64 = 2e3;
 
-/// A_a F_ab by [`lambert_over_area`] when a contour sum over the clipped outlines `pa`, `pb`
+/// A_a F_ab by an area route when a contour sum over the clipped outlines `pa`, `pb`
 /// (normals `na`, `nb`) cancels by more than ILL_CONDITIONED: `sum` of edge-pair terms, `mag`
 /// of their magnitudes. The cancellation counted is the larger of mag / |sum| (between terms)
 /// and (distance / size)^2 (inside each term for a pair far apart compared with its size,
 /// where the inner integrals cancel like that). None when the sum is well conditioned, the
 /// outlines touch (Lambert's integrand is singular along the contact), or the area route
-/// does not converge: the caller keeps its sum. The source is the smaller outline.
+/// does not converge: the caller keeps its sum. Pairs far apart go to [`area_area`], the
+/// rest (and far pairs it refuses) to [`lambert_over_area`] over the smaller outline.
 pub fn if_cancelling(pa: &[Vec3], na: Vec3, pb: &[Vec3], nb: Vec3, sum: f64, mag: f64) -> Option<f64> {
     let (da, db) = (bounding_diameter(pa), bounding_diameter(pb));
     let mean = |p: &[Vec3]| p.iter().fold(Vec3::ZERO, |s, v| s + *v) / p.len() as f64;
@@ -219,6 +220,33 @@ mod tests {
             let want = 2.0 / (x + (x * x - 4.0).sqrt());
             assert!((got - want).abs() <= 1e-9 * want, "{d}: {got} {want}");
         }
+    }
+
+    #[test]
+    fn area_area_far_apart_and_refused_near() {
+        let m = 64;
+        let ring = |z: f64, flip: bool| -> Vec<Vec3> {
+            let mut v: Vec<Vec3> = (0..m)
+                .map(|k| {
+                    let t = 2.0 * PI * k as f64 / m as f64;
+                    Vec3::new(t.cos(), t.sin(), z)
+                })
+                .collect();
+            if flip {
+                v.reverse();
+            }
+            v
+        };
+        let area = 0.5 * m as f64 * (2.0 * PI / m as f64).sin();
+        for d in [1e2, 1e4, 1e6] {
+            let got = area_area(&ring(0.0, false), Vec3::Z, &ring(d, true), -Vec3::Z).expect("converged") / area;
+            // equal-area disks (Howell C-41), the polygons' second moments moving F by < 1e-8
+            let x = 2.0 + d * d * PI / area;
+            let want = 2.0 / (x + (x * x - 4.0).sqrt());
+            assert!((got - want).abs() <= 1e-8 * want, "{d}: {got} {want}");
+        }
+        // one radius apart the orders 6 and 8 differ: refused
+        assert!(area_area(&ring(0.0, false), Vec3::Z, &ring(1.0, true), -Vec3::Z).is_none());
     }
 
     #[test]
