@@ -10,6 +10,7 @@ use crate::geometry::{clip_pair, Polygon, Vec3};
 use super::area_routes::if_cancelling;
 use crate::quadrature::gauss_legendre;
 use crate::special::im_li2;
+use std::sync::OnceLock;
 use std::f64::consts::PI;
 
 /// Below this relative distance between the edge lines, D is treated as exactly 0
@@ -78,7 +79,8 @@ pub fn edge_pair_log_integral(p0: Vec3, p1: Vec3, q0: Vec3, q1: Vec3) -> f64 {
         let (lp, lq) = ((q0 - p0).dot(u), (q1 - p0).dot(u));
         let reach = lp.abs().max(lq.abs()).max((la - lp).abs()).max((la - lq).abs()).max((w - w.dot(u) * u).length());
         if cancels(reach, la, lb) {
-            return b * single_line(p0, la, u, q0, q1, v, 0.0, 0.0, w);
+            let d = (w - w.dot(u) * u).length();
+            return parallel_by_offset(la, lp, lq, d).unwrap_or_else(|| b * single_line(p0, la, u, q0, q1, v, 0.0, 0.0, w));
         }
         return parallel_pair(p0, la, u, q0, q1, lmax);
     }
@@ -174,6 +176,48 @@ fn skew_antiderivative(s: f64, l: f64, cos: f64, sin: f64, alpha: f64, d: f64) -
     f
 }
 
+/// Gauss-Legendre nodes (MIN_LINE_NODES..=LINE_NODES) for rounding-level accuracy on a panel
+/// whose nearest singularity has distances summing to `semi` panel lengths from its two ends:
+/// the error is ~ rho^(-2n) for rho = semi + sqrt(semi^2 - 1), the Bernstein ellipse through
+/// the singularity, so n = ceil(18.5 / ln rho). None when that exceeds LINE_NODES.
+fn nodes_for(semi: f64) -> Option<usize> {
+    // RHO[k]: the smallest rho for which MIN_LINE_NODES + k nodes suffice, exp(18.5 / n).
+    static RHO: OnceLock<[f64; LINE_NODES - MIN_LINE_NODES + 1]> = OnceLock::new();
+    let rho_min = RHO.get_or_init(|| std::array::from_fn(|k| (18.5 / (MIN_LINE_NODES + k) as f64).exp()));
+    let rho = semi + (semi * semi - 1.0).max(0.0).sqrt();
+    rho_min.iter().position(|&r| rho >= r).map(|k| MIN_LINE_NODES + k)
+}
+
+/// int_0^la ds int_lp^lq dl ln((s - l)^2 + d^2) for parallel edges (edge b from lp to lq along
+/// edge a's direction, at distance d) as a single integral over the offset x = s - l,
+///   int ln(x^2 + d^2) W(x) dx,  W(x) = |{s in [0, la] : s - x between lp and lq}|,
+/// W a trapezoid (linear on three pieces): Gauss-Legendre per piece with the node count of its
+/// Bernstein ellipse about the singularities x = +-i d. Where the closed form cancels (edges
+/// far apart compared with their lengths) this needs one logarithm per node and no arctangent.
+/// None when a singularity is too close to a piece for 16 nodes (the caller integrates
+/// otherwise).
+fn parallel_by_offset(la: f64, lp: f64, lq: f64, d: f64) -> Option<f64> {
+    let (l0, l1, sign) = if lq >= lp { (lp, lq, 1.0) } else { (lq, lp, -1.0) };
+    // breakpoints of the trapezoid: -l1 <= both of -l0, la - l1 <= la - l0
+    let (m1, m2) = if -l0 <= la - l1 { (-l0, la - l1) } else { (la - l1, -l0) };
+    let t = [-l1, m1, m2, la - l0];
+    let weight = |x: f64| ((x + l1).min(la) - (x + l0).max(0.0)).max(0.0);
+    let mut total = 0.0;
+    for k in 0..3 {
+        let (a, b) = (t[k], t[k + 1]);
+        let len = b - a;
+        if len <= 0.0 {
+            continue;
+        }
+        let rule = gauss_legendre(nodes_for(((a * a + d * d).sqrt() + (b * b + d * d).sqrt()) / len)?);
+        total += len * rule.iter().map(|&(x, w)| {
+            let x = a + len * x;
+            w * weight(x) * (x * x + d * d).ln()
+        }).sum::<f64>();
+    }
+    Some(sign * total)
+}
+
 /// Parallel (or antiparallel, collinear, overlapping) edges: both parameterised along u from
 /// the foot of p0 on line b; the orientation of edge b is carried by the order of its limits.
 fn parallel_pair(p0: Vec3, la: f64, u: Vec3, q0: Vec3, q1: Vec3, lmax: f64) -> f64 {
@@ -262,8 +306,7 @@ fn single_line(p0: Vec3, la: f64, u: Vec3, q0: Vec3, q1: Vec3, v: Vec3, s_star: 
         // Bernstein ellipse (foci at the panel's ends) free of singularities, whose
         // semi-axis sum rho follows from the nearest one's distances to the ends.
         let semi = sing.iter().map(|&(t, e)| ((t - a).hypot(e) + (t - b).hypot(e)) / len).fold(f64::INFINITY, f64::min);
-        let rho = semi + (semi * semi - 1.0).max(0.0).sqrt();
-        let n = if near || !(rho > 1.0) { LINE_NODES } else { ((18.5 / rho.ln()).ceil() as usize).clamp(MIN_LINE_NODES, LINE_NODES) };
+        let n = if near { LINE_NODES } else { nodes_for(semi).unwrap_or(LINE_NODES) };
         total += len * gauss_legendre(n).iter().map(|&(x, w)| w * phi(a + len * x)).sum::<f64>();
     }
     total
@@ -452,6 +495,31 @@ mod tests {
             }
         }
         assert!(worst < 2e-14, "worst {worst:e}");
+    }
+
+    #[test]
+    fn parallel_edges_by_offset_match_the_closed_form_and_brute_force() {
+        // Moderately apart (both routes valid; the closed form cancels little), and far apart
+        // against a tensor Gauss rule.
+        let mut rng = Rng(31);
+        let mut worst: f64 = 0.0;
+        for k in 0..200 {
+            let la = rng.range(0.2, 1.0);
+            let (lp, lq) = (rng.range(-2.0, 2.0), rng.range(-2.0, 2.0));
+            let d = if k % 5 == 0 { 0.0 } else { rng.range(0.0, 2.0) };
+            let (p0, p1) = (Vec3::ZERO, Vec3::X * la);
+            let (q0, q1) = (Vec3::new(lp, d, 0.0), Vec3::new(lq, d, 0.0));
+            let Some(got) = parallel_by_offset(la, lp, lq, d) else { continue };
+            let (scale, lmax) = (la * (lq - lp).abs(), la.max((lq - lp).abs()));
+            // the closed form's own rounding is relative to its corner values, ~ lmax^2
+            let cf = parallel_pair(p0, la, Vec3::X, q0, q1, lmax);
+            worst = worst.max((got - cf).abs() / (lmax * lmax));
+            let far = Vec3::new(rng.range(-30.0, 30.0), rng.range(5.0, 30.0), 0.0);
+            let got = parallel_by_offset(la, lp + far.x, lq + far.x, d + far.y).expect("far apart");
+            let want = brute_edge(p0, p1, q0 + far, q1 + far, 40);
+            worst = worst.max((got - want).abs() / (scale * (1.0 + far.length().ln())));
+        }
+        assert!(worst < 1e-13, "worst {worst:e}");
     }
 
     #[test]
