@@ -293,7 +293,7 @@ fn single_line(p0: Vec3, la: f64, u: Vec3, q0: Vec3, q1: Vec3, v: Vec3, s_star: 
         let len = b - a;
         let near = sing.iter().any(|&(t, e)| {
             let dx = if t < a { a - t } else if t > b { t - b } else { 0.0 };
-            dx.hypot(e) < len
+            dx * dx + e * e < len * len
         });
         if near && depth < 60 {
             let m = 0.5 * (a + b);
@@ -305,7 +305,7 @@ fn single_line(p0: Vec3, la: f64, u: Vec3, q0: Vec3, q1: Vec3, v: Vec3, s_star: 
         // Nodes for rounding-level accuracy: the panel error is ~ rho^(-2n) for the largest
         // Bernstein ellipse (foci at the panel's ends) free of singularities, whose
         // semi-axis sum rho follows from the nearest one's distances to the ends.
-        let semi = sing.iter().map(|&(t, e)| ((t - a).hypot(e) + (t - b).hypot(e)) / len).fold(f64::INFINITY, f64::min);
+        let semi = sing.iter().map(|&(t, e)| (((t - a) * (t - a) + e * e).sqrt() + ((t - b) * (t - b) + e * e).sqrt()) / len).fold(f64::INFINITY, f64::min);
         let n = if near { LINE_NODES } else { nodes_for(semi).unwrap_or(LINE_NODES) };
         total += len * gauss_legendre(n).iter().map(|&(x, w)| w * phi(a + len * x)).sum::<f64>();
     }
