@@ -5,7 +5,7 @@
 //! one sign instead:
 //!
 //! * far apart: the double area integral of cos cos / (pi r^2) by tensor Gauss, accepted when
-//!   two orders agree to 1e-14 (the kernel is analytic and positive; every term is rounded
+//!   two orders agree to 5e-14 (the kernel is analytic and positive; every term is rounded
 //!   relative to itself, also for grazing pairs where Lambert's sum still cancels);
 //! * otherwise Lambert's exact point form integrated over the source by adaptive Gauss,
 //!   A_s F_st = int_s F(dA_x -> t) dA_x, F(dA_x -> t) >= 0 by [`point_contour`], rounded
@@ -48,6 +48,12 @@ pub fn if_cancelling(pa: &[Vec3], na: Vec3, pb: &[Vec3], nb: Vec3, sum: f64, mag
     lambert_over_area(src, n, tgt, 1e-14)
 }
 
+/// Gauss orders per direction compared by [`area_area`], and the relative agreement that
+/// accepts the higher one. From 45 sizes apart (where it is tried) order 5 is at the rounding
+/// floor of the far-field tables (quadrature.rs: 2e-14 for any polygons from 32 apart).
+const AREA_ORDERS: (usize, usize) = (5, 6);
+const AREA_AGREE: f64 = 5e-14;
+
 /// Collapsed Gauss points and weights (order per direction) on the signed fan of `p`.
 fn fan_rule(p: &[Vec3], n: Vec3, order: usize) -> Vec<(Vec3, f64)> {
     let rule = gauss_legendre(order);
@@ -65,7 +71,7 @@ fn fan_rule(p: &[Vec3], n: Vec3, order: usize) -> Vec<(Vec3, f64)> {
 }
 
 /// A_a F_ab as the double area integral of cos_a cos_b / (pi r^2) over the (clipped) outlines
-/// by tensor Gauss of orders 6 and 8 per direction: Some when they agree to 1e-14 (a pair
+/// by tensor Gauss of AREA_ORDERS per direction: Some when they agree to AREA_AGREE (a pair
 /// far apart compared with its size), None otherwise. Signed fans keep concave outlines
 /// exact: the kernel stays analytic and non-negative over each outline's convex hull.
 fn area_area(pa: &[Vec3], na: Vec3, pb: &[Vec3], nb: Vec3) -> Option<f64> {
@@ -83,8 +89,8 @@ fn area_area(pa: &[Vec3], na: Vec3, pb: &[Vec3], nb: Vec3) -> Option<f64> {
         }
         acc / std::f64::consts::PI
     };
-    let (lo, hi) = (g(6), g(8));
-    (hi > 0.0 && (hi - lo).abs() <= 1e-14 * hi).then_some(hi)
+    let (lo, hi) = (g(AREA_ORDERS.0), g(AREA_ORDERS.1));
+    (hi > 0.0 && (hi - lo).abs() <= AREA_AGREE * hi).then_some(hi)
 }
 
 /// Whether any edges of the two outlines meet or nearly meet (relative to the smaller one):
@@ -245,7 +251,7 @@ mod tests {
             let want = 2.0 / (x + (x * x - 4.0).sqrt());
             assert!((got - want).abs() <= 1e-8 * want, "{d}: {got} {want}");
         }
-        // one radius apart the orders 6 and 8 differ: refused
+        // one radius apart the two orders differ: refused
         assert!(area_area(&ring(0.0, false), Vec3::Z, &ring(1.0, true), -Vec3::Z).is_none());
     }
 
