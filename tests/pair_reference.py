@@ -1,4 +1,4 @@
-"""Random polygon pairs in general position, and a 40-digit reference for their view factor.
+"""Random polygon pairs in general position, and 40-digit references for view factors.
 
 The reference is independent of nusselt's arithmetic: mpmath clips each polygon to the other's
 front half-space and evaluates the double contour integral (algorithms.md 1.2)
@@ -9,7 +9,9 @@ with the inner integral in closed form (Mitalas & Stephenson: [m ln(m^2 + g^2) -
 2g atan(m/g)] / |d_q|) and the outer one by tanh-sinh, split where edge p passes a vertex of b
 or the closest point of an edge line (where the integrand has log singularities). At 40 digits
 the cancellation between edge-pair terms, which limits double precision on slivers and on
-pairs far apart, is harmless. Used by tests/test_precision.py and bench/pair_fuzz.py.
+pairs far apart, is harmless. The point form is Lambert's formula at 40 digits on the polygon
+clipped to the point's front half-space. Used by tests/test_precision.py and
+bench/pair_fuzz.py.
 """
 
 import mpmath as mp
@@ -133,3 +135,27 @@ def view_factor_mp(a, b, dps=40):
                     terms.append((_dot(dp, dq), q0, q1))
             total += mp.quad(lambda s: sum(w * _inner(_axpy(p0, s, dp), q0, q1) for w, q0, q1 in terms), sorted(breaks))
         return total / (4 * mp.pi) / area_a
+
+
+def point_view_factor_mp(p, n, poly, dps=40):
+    """F from a differential area at p (unit normal n) to the polygon `poly` (front side only),
+    by Lambert's formula at `dps` digits, as an mpmath number."""
+    with mp.workdps(dps):
+        pt = [mp.mpf(float(c)) for c in p]
+        nn = [mp.mpf(float(c)) for c in n]
+        scale = mp.sqrt(_dot(nn, nn))
+        nn = [c / scale for c in nn]
+        v = [[mp.mpf(float(c)) for c in x] for x in poly]
+        if _dot(_sub(pt, v[0]), _newell(v)) <= 0:
+            return mp.mpf(0)
+        c = _clip(v, pt, nn)
+        if len(c) < 3:
+            return mp.mpf(0)
+        total = mp.mpf(0)
+        for k in range(len(c)):
+            a, b = _sub(c[k], pt), _sub(c[(k + 1) % len(c)], pt)
+            x = _cross(a, b)
+            length = mp.sqrt(_dot(x, x))
+            if length > 0:
+                total += mp.atan2(length, _dot(a, b)) * _dot(nn, x) / length
+        return -total / (2 * mp.pi)

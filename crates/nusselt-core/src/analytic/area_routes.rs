@@ -104,32 +104,63 @@ fn touching(pa: &[Vec3], pb: &[Vec3]) -> bool {
 
 /// Gauss-Legendre order per direction of the collapsed (Duffy) rule on each triangle.
 const ORDER: usize = 8;
-/// Rounding of a Lambert sum, in units of its terms' magnitudes (a few eps per term).
+/// Rounding of an integrand (a Lambert sum: a few eps per term), in units of its magnitude.
 const NOISE_EPS: f64 = 64.0 * f64::EPSILON;
 /// Most triangles refined before giving up (each costs 5 ORDER^2 point evaluations).
 const MAX_TRIANGLES: usize = 400;
 
 /// int over the source polygon `src` (plane normal `n_src`, vertices in order about it) of
 /// Lambert's F to the contour `target`, which must lie in the front half-space of every point
-/// of `src` (a clipped pair). Converged when every triangle's estimate changes by less than
-/// `rel_tol` times the total (by its share of the area) on splitting it in four; None when
-/// that takes more than MAX_TRIANGLES refinements (a source touching the target) or the
-/// total is not positive.
+/// of `src` (a clipped pair), by [`adaptive_area`].
 pub fn lambert_over_area(src: &[Vec3], n_src: Vec3, target: &[Vec3], rel_tol: f64) -> Option<f64> {
+    adaptive_area(src, n_src, |x| point_contour_terms(x, n_src, target), rel_tol)
+}
+
+/// F(dA at p, unit normal n -> polygon `poly`, plane normal `n_poly`) as the area integral
+///   (h / pi) int n.(y - p) / |y - p|^4 dA_y,  h = n_poly.(p - y) (the same for every y),
+/// by [`adaptive_area`]: the route for points near the polygon's plane (beside the polygon)
+/// or far from it, where Lambert's contour sum cancels. `poly` must lie in p's front
+/// half-space (clipped); None as for [`adaptive_area`].
+pub fn point_over_area(p: Vec3, n: Vec3, poly: &[Vec3], n_poly: Vec3, rel_tol: f64) -> Option<f64> {
+    let h = n_poly.dot(p - poly[0]);
+    if !(h > 0.0) {
+        return None;
+    }
+    let g = adaptive_area(
+        poly,
+        n_poly,
+        |y| {
+            let d = y - p;
+            let r2 = d.length_squared();
+            let v = n.dot(d).max(0.0) / (r2 * r2);
+            (v, v)
+        },
+        rel_tol,
+    )?;
+    Some(h * g / std::f64::consts::PI)
+}
+
+/// int over the polygon `src` (plane normal `n_src`, vertices in order about it) of `f`,
+/// which returns the integrand and the magnitude its rounding scales with, by collapsed Gauss
+/// (ORDER per direction) on a signed fan, each triangle split in four until the split
+/// changes it by less than `rel_tol` times the total (by its share of the area) or by the
+/// rounding of `f` (NOISE_EPS times the integrated magnitude). The integrand must be analytic
+/// on the source's convex hull; None when the total is not positive or convergence takes
+/// more than MAX_TRIANGLES splits (a singularity on or near the source).
+fn adaptive_area(src: &[Vec3], n_src: Vec3, f: impl Fn(Vec3) -> (f64, f64), rel_tol: f64) -> Option<f64> {
     let rule = gauss_legendre(ORDER);
     // Collapsed Gauss on a triangle with twice its signed area `twice` (about n_src), with
-    // the same rule applied to the magnitudes of Lambert's terms (the rounding scale of the
-    // value). Children get a quarter of their parent's `twice`, exactly: recomputed from the
-    // vertices, a sliver's area carries rounding ~ eps times its aspect ratio, which would
-    // pose as quadrature error.
+    // the same rule applied to the magnitudes. Children get a quarter of their parent's
+    // `twice`, exactly: recomputed from the vertices, a sliver's area carries rounding
+    // ~ eps times its aspect ratio, which would pose as quadrature error.
     let tri = |t: &[Vec3; 3], twice: f64| -> (f64, f64) {
         let (a, b, c) = (t[0], t[1], t[2]);
         let (mut acc, mut mag) = (0.0, 0.0);
         for &(s, ws) in rule {
             let (mut row, mut rmag) = (0.0, 0.0);
             for &(r, wr) in rule {
-                let (f, m) = point_contour_terms(a + s * (b - a) + (s * r) * (c - b), n_src, target);
-                row += wr * f;
+                let (v, m) = f(a + s * (b - a) + (s * r) * (c - b));
+                row += wr * v;
                 rmag += wr * m;
             }
             acc += ws * s * row;
@@ -141,9 +172,8 @@ pub fn lambert_over_area(src: &[Vec3], n_src: Vec3, target: &[Vec3], rel_tol: f6
         let (ab, bc, ca) = (0.5 * (t[0] + t[1]), 0.5 * (t[1] + t[2]), 0.5 * (t[2] + t[0]));
         [[t[0], ab, ca], [ab, t[1], bc], [ca, bc, t[2]], [ab, bc, ca]]
     };
-    // Signed fan: exact for concave outlines too, the integrand being analytic on the
-    // source's convex hull (which lies in front of the target like the source).
-    let mut work: Vec<([Vec3; 3], f64, f64)> = (1..src.len() - 1)
+    // Signed fan: exact for concave outlines too, the integrand being analytic on the hull.
+    let mut work: Vec<([Vec3; 3], f64, f64)> = (1..src.len().saturating_sub(1))
         .map(|k| {
             let t = [src[0], src[k], src[k + 1]];
             let twice = (t[1] - t[0]).cross(t[2] - t[0]).dot(n_src);
@@ -163,7 +193,7 @@ pub fn lambert_over_area(src: &[Vec3], n_src: Vec3, target: &[Vec3], rel_tol: f6
         let parts: f64 = vals.iter().map(|v| v.0).sum();
         let noise: f64 = vals.iter().map(|v| v.1).sum::<f64>() * NOISE_EPS;
         let share = 0.5 * twice.abs() / area;
-        // Converged, or changing only by the rounding of Lambert's sums: refining further
+        // Converged, or changing only by the rounding of the integrand: refining further
         // cannot tell more.
         if (parts - whole).abs() <= (rel_tol * total * share).max(noise) {
             sum += parts;

@@ -1,5 +1,6 @@
 //! Differential area to polygon: Lambert's closed form (algorithms.md 1.3).
 
+use super::area_routes::point_over_area;
 use crate::geometry::{bounding_diameter, clip_to_halfspace, newell_normal, Vec3, COINCIDENT_TOL};
 use std::f64::consts::TAU;
 
@@ -34,8 +35,21 @@ pub fn point_polygon(p: Vec3, n: Vec3, poly: &[Vec3]) -> f64 {
     if clipped.len() < 3 {
         return 0.0;
     }
-    point_contour(p, n, &clipped).max(0.0)
+    // Lambert's terms cancel for p near the polygon's plane beside it, or far from it (F ~ the
+    // height, or ~ (size / distance)^2, from terms ~ the angles subtended): such sums are
+    // recomputed by the area integral, whose terms have one sign.
+    let (f, mag) = point_contour_terms(p, n, &clipped);
+    if mag > POINT_ILL_CONDITIONED * f.max(0.0) {
+        if let Some(g) = point_over_area(p, n, &clipped, nv / len, 1e-14) {
+            return g;
+        }
+    }
+    f.max(0.0)
 }
+
+/// Cancellation (sum of |terms| over F) above which Lambert's sum is recomputed by the area
+/// route: its relative error is ~ eps times the ratio.
+const POINT_ILL_CONDITIONED: f64 = 1e3;
 
 /// Signed Lambert contour sum for a closed contour lying in p's front half-space (no clipping):
 ///
