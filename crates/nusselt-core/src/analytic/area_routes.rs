@@ -28,7 +28,7 @@ const ILL_CONDITIONED: f64 = 2e3;
 /// of their magnitudes. The cancellation counted is the larger of mag / |sum| (between terms)
 /// and (distance / size)^2 (inside each term for a pair far apart compared with its size,
 /// where the inner integrals cancel like that). None when the sum is well conditioned, the
-/// outlines touch (Lambert's integrand is singular along the contact), or the area route
+/// outlines touch along a line (Lambert's integrand is singular all along it), or the area route
 /// does not converge: the caller keeps its sum. Pairs far apart go to [`area_area`], the
 /// rest (and far pairs it refuses) to [`lambert_over_area`] over the smaller outline.
 pub fn if_cancelling(pa: &[Vec3], na: Vec3, pb: &[Vec3], nb: Vec3, sum: f64, mag: f64) -> Option<f64> {
@@ -93,13 +93,31 @@ fn area_area(pa: &[Vec3], na: Vec3, pb: &[Vec3], nb: Vec3) -> Option<f64> {
     (hi > 0.0 && (hi - lo).abs() <= AREA_AGREE * hi).then_some(hi)
 }
 
-/// Whether any edges of the two outlines meet or nearly meet (relative to the smaller one):
-/// a piercing pair's cut edges, a shared edge or vertex.
+/// Whether the two outlines meet along a line: a pair of edges nearly collinear and
+/// overlapping (within 1e-3 of the smaller outline), as the cut edges of a piercing pair or
+/// a shared edge. Lambert's integrand is singular all along such a contact and the area
+/// route would not converge; a contact at isolated points (a shared vertex, a vertex on
+/// the other's edge, crossing edges) it resolves by refining towards the point.
 fn touching(pa: &[Vec3], pb: &[Vec3]) -> bool {
     let tol = 1e-3 * bounding_diameter(pa).min(bounding_diameter(pb));
     let edges = |p: &[Vec3]| (0..p.len()).map(move |i| (p[i], p[(i + 1) % p.len()])).collect::<Vec<_>>();
     let (ea, eb) = (edges(pa), edges(pb));
-    ea.iter().any(|&(p, q)| eb.iter().any(|&(r, s)| segment_distance(p, q, r, s) <= tol))
+    let off_line = |x: Vec3, p: Vec3, u: Vec3| {
+        let r = x - p;
+        (r - r.dot(u) * u).length()
+    };
+    ea.iter().any(|&(p, q)| {
+        let len = (q - p).length();
+        let u = (q - p) / len;
+        eb.iter().any(|&(r, s)| {
+            if segment_distance(p, q, r, s) > tol || off_line(r, p, u) > tol || off_line(s, p, u) > tol {
+                return false;
+            }
+            // collinear: do their spans along the line overlap by more than tol?
+            let (t0, t1) = ((r - p).dot(u), (s - p).dot(u));
+            t0.max(t1).min(len) - t0.min(t1).max(0.0) > tol
+        })
+    })
 }
 
 /// Gauss-Legendre order per direction of the collapsed (Duffy) rule on each triangle.
@@ -193,9 +211,12 @@ fn adaptive_area(src: &[Vec3], n_src: Vec3, f: impl Fn(Vec3) -> (f64, f64), rel_
         let parts: f64 = vals.iter().map(|v| v.0).sum();
         let noise: f64 = vals.iter().map(|v| v.1).sum::<f64>() * NOISE_EPS;
         let share = 0.5 * twice.abs() / area;
-        // Converged, or changing only by the rounding of the integrand: refining further
-        // cannot tell more.
-        if (parts - whole).abs() <= (rel_tol * total * share).max(noise) {
+        // Converged, or changing only by the rounding of the integrand (refining further
+        // cannot tell more), or by a negligible amount: near a point where the integrand
+        // jumps (a contact point) the change only shrinks with the area, never relative to
+        // it, and the MAX_TRIANGLES splits together stay below rel_tol of the total.
+        let negligible = rel_tol * total / (4 * MAX_TRIANGLES) as f64;
+        if (parts - whole).abs() <= (rel_tol * total * share).max(noise).max(negligible) {
             sum += parts;
             continue;
         }
