@@ -103,6 +103,27 @@ def test_sliver_touching_at_a_vertex(method):
     assert nusselt.view_factor(a, b, method=method) == pytest.approx(want, rel=1e-10, abs=0)
 
 
+@pytest.mark.parametrize("method", EXACT)
+def test_shared_edge_with_a_nearly_collinear_neighbour(method):
+    """b shares an edge with a, and b's next edge continues a's edge at an angle of ~1e-14
+    (a concave outline). Analytic took that edge pair as skew and its closed form, written
+    about the lines' closest points (rounded to ~eps |w| / sin), was off: F by 4.5e-4."""
+    a = np.array([[-0.13058857861190087, 0.5357352748512952, 0.12882366298528802],
+                  [0.07588361656821252, 0.6589762662053269, 0.2015360688228553],
+                  [0.3035147833952327, 0.7394915855728333, -0.0065725525369552396]])
+    b = np.array([[0.07588361656821252, 0.6589762662053269, 0.2015360688228553],
+                  [-0.13058857861190087, 0.5357352748512952, 0.12882366298528802],
+                  [0.036856050988781294, 0.6343813862142944, 0.16767104497880747],
+                  [-0.13747842790506665, 0.5231538566721858, -0.004706308792638558],
+                  [0.19918325669208053, 0.7301228472400214, 0.20703652681223045],
+                  [-0.13203974460905943, 0.5441073252818375, 0.2713252673061278],
+                  [-0.028657105719744794, 0.6004636308390509, 0.2248866326457885],
+                  [-0.11934979522228212, 0.5462664704862842, 0.19196187053145936]])
+    want = float(view_factor_mp(a, b))
+    # measured: 2.5e-15 (analytic, auto), 1.3e-15 (contour)
+    assert nusselt.view_factor(a, b, method=method) == pytest.approx(want, rel=1e-12, abs=0)
+
+
 @pytest.mark.slow
 @pytest.mark.parametrize("seed", [5, 6])
 def test_random_pairs_sweep(seed):
