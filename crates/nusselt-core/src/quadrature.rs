@@ -250,15 +250,20 @@ impl AreaRule {
         if !(twice_area > 0.0) {
             return; // collinear remnant of a triangulation: no area
         }
-        let (gj, gl) = (gauss_jacobi10(order), gauss_legendre(order));
-        let (e1, e2) = (p1 - p0, p2 - p0);
-        for &(u, wu) in gj {
-            for &(t, wt) in gl {
-                self.points.push(p0 + e1 * u + e2 * ((1.0 - u) * t));
-                self.weights.push(twice_area * wu * wt);
-            }
+        for (x, w) in triangle_rule(p0, p1, p2, twice_area, order) {
+            self.points.push(x);
+            self.weights.push(w);
         }
     }
+}
+
+/// The triangle rule of [`AreaRule`] (collapsed Gauss-Jacobi(1,0) x Gauss-Legendre, order^2
+/// points) on the triangle p0 p1 p2 whose twice area the caller gives (signed for signed fans;
+/// exact quarters for midpoint children, where recomputing it would add rounding).
+pub(crate) fn triangle_rule(p0: Vec3, p1: Vec3, p2: Vec3, twice_area: f64, order: usize) -> impl Iterator<Item = (Vec3, f64)> {
+    let (gj, gl) = (gauss_jacobi10(order), gauss_legendre(order));
+    let (e1, e2) = (p1 - p0, p2 - p0);
+    gj.iter().flat_map(move |&(u, wu)| gl.iter().map(move |&(t, wt)| (p0 + e1 * u + e2 * ((1.0 - u) * t), twice_area * wu * wt)))
 }
 
 /// Convex (strictly, counter-clockwise about n) quadrilateral: every corner turns left.

@@ -11,12 +11,12 @@
 //!   A_s F_st = int_s F(dA_x -> t) dA_x, F(dA_x -> t) >= 0 by [`point_contour`], rounded
 //!   relative to itself up to the cancellation inside Lambert's sum (about the ratio of t's
 //!   distance to its size). The integrand is analytic away from t, so Gauss converges
-//!   geometrically on a source that does not touch the target; a pair that does touch is
-//!   refused and the caller keeps its closed form.
+//!   geometrically on a source that does not touch the target, and refinement resolves a
+//!   contact at a point; a pair touching along a line is refused and the caller keeps its sum.
 
 use super::lambert::point_contour_terms;
 use crate::geometry::{bounding_diameter, segment_distance, Vec3};
-use crate::quadrature::gauss_legendre;
+use crate::quadrature::triangle_rule;
 
 /// Cancellation ratio above which a contour sum is recomputed by the area route. Each term
 /// of a contour sum is accurate to a few eps, so its relative error is up to ~3e-14 times the
@@ -36,13 +36,17 @@ pub fn if_cancelling(pa: &[Vec3], na: Vec3, pb: &[Vec3], nb: Vec3, sum: f64, mag
     let mean = |p: &[Vec3]| p.iter().fold(Vec3::ZERO, |s, v| s + *v) / p.len() as f64;
     let far = mean(pa).distance(mean(pb)) / da.max(db);
     let ratio = (mag / sum.abs()).max(far * far);
-    if !(ratio > ILL_CONDITIONED) || touching(pa, pb) {
+    if !(ratio > ILL_CONDITIONED) {
         return None;
     }
     if far * far > ILL_CONDITIONED {
         if let Some(g) = area_area(pa, na, pb, nb) {
             return Some(g);
         }
+    }
+    // (tested only here: outlines 45 sizes apart cannot touch)
+    if touching(pa, pb) {
+        return None;
     }
     let (src, n, tgt) = if da <= db { (pa, na, pb) } else { (pb, nb, pa) };
     lambert_over_area(src, n, tgt, 1e-14)
@@ -54,20 +58,14 @@ pub fn if_cancelling(pa: &[Vec3], na: Vec3, pb: &[Vec3], nb: Vec3, sum: f64, mag
 const AREA_ORDERS: (usize, usize) = (5, 6);
 const AREA_AGREE: f64 = 5e-14;
 
-/// Collapsed Gauss points and weights (order per direction) on the signed fan of `p`.
+/// [`triangle_rule`] points and weights (order per direction) on the signed fan of `p`.
 fn fan_rule(p: &[Vec3], n: Vec3, order: usize) -> Vec<(Vec3, f64)> {
-    let rule = gauss_legendre(order);
-    let mut out = Vec::with_capacity((p.len() - 2) * order * order);
-    for k in 1..p.len() - 1 {
-        let (a, b, c) = (p[0], p[k], p[k + 1]);
-        let twice = (b - a).cross(c - a).dot(n);
-        for &(s, ws) in rule {
-            for &(r, wr) in rule {
-                out.push((a + s * (b - a) + (s * r) * (c - b), ws * wr * s * twice));
-            }
-        }
-    }
-    out
+    (1..p.len() - 1)
+        .flat_map(|k| {
+            let (a, b, c) = (p[0], p[k], p[k + 1]);
+            triangle_rule(a, b, c, (b - a).cross(c - a).dot(n), order)
+        })
+        .collect()
 }
 
 /// A_a F_ab as the double area integral of cos_a cos_b / (pi r^2) over the (clipped) outlines
@@ -120,7 +118,7 @@ fn touching(pa: &[Vec3], pb: &[Vec3]) -> bool {
     })
 }
 
-/// Gauss-Legendre order per direction of the collapsed (Duffy) rule on each triangle.
+/// Order per direction of the triangle rule in [`adaptive_area`].
 const ORDER: usize = 8;
 /// Rounding of an integrand (a Lambert sum: a few eps per term), in units of its magnitude.
 const NOISE_EPS: f64 = 64.0 * f64::EPSILON;
@@ -159,32 +157,22 @@ pub fn point_over_area(p: Vec3, n: Vec3, poly: &[Vec3], n_poly: Vec3, rel_tol: f
 }
 
 /// int over the polygon `src` (plane normal `n_src`, vertices in order about it) of `f`,
-/// which returns the integrand and the magnitude its rounding scales with, by collapsed Gauss
+/// which returns the integrand and the magnitude its rounding scales with, by [`triangle_rule`]
 /// (ORDER per direction) on a signed fan, each triangle split in four until the split
 /// changes it by less than `rel_tol` times the total (by its share of the area) or by the
 /// rounding of `f` (NOISE_EPS times the integrated magnitude). The integrand must be analytic
 /// on the source's convex hull; None when the total is not positive or convergence takes
 /// more than MAX_TRIANGLES splits (a singularity on or near the source).
 fn adaptive_area(src: &[Vec3], n_src: Vec3, f: impl Fn(Vec3) -> (f64, f64), rel_tol: f64) -> Option<f64> {
-    let rule = gauss_legendre(ORDER);
-    // Collapsed Gauss on a triangle with twice its signed area `twice` (about n_src), with
+    // [`triangle_rule`] on a triangle with twice its signed area `twice` (about n_src), with
     // the same rule applied to the magnitudes. Children get a quarter of their parent's
     // `twice`, exactly: recomputed from the vertices, a sliver's area carries rounding
     // ~ eps times its aspect ratio, which would pose as quadrature error.
     let tri = |t: &[Vec3; 3], twice: f64| -> (f64, f64) {
-        let (a, b, c) = (t[0], t[1], t[2]);
-        let (mut acc, mut mag) = (0.0, 0.0);
-        for &(s, ws) in rule {
-            let (mut row, mut rmag) = (0.0, 0.0);
-            for &(r, wr) in rule {
-                let (v, m) = f(a + s * (b - a) + (s * r) * (c - b));
-                row += wr * v;
-                rmag += wr * m;
-            }
-            acc += ws * s * row;
-            mag += ws * s * rmag;
-        }
-        (acc * twice, mag * twice.abs())
+        triangle_rule(t[0], t[1], t[2], twice, ORDER).fold((0.0, 0.0), |(acc, mag), (x, w)| {
+            let (v, m) = f(x);
+            (acc + w * v, mag + w.abs() * m)
+        })
     };
     let split = |t: &[Vec3; 3]| -> [[Vec3; 3]; 4] {
         let (ab, bc, ca) = (0.5 * (t[0] + t[1]), 0.5 * (t[1] + t[2]), 0.5 * (t[2] + t[0]));
@@ -249,61 +237,68 @@ mod tests {
         }
     }
 
-    /// Far apart, against the coaxial disk-to-disk closed form (Howell C-41) in its
-    /// cancellation-free form.
+    /// Regular m-gon of unit circumradius in the plane z, counter-clockwise about +z (or
+    /// about -z with `flip`), and its area.
+    fn ring(m: usize, z: f64, flip: bool) -> (Vec<Vec3>, f64) {
+        let mut v: Vec<Vec3> = (0..m)
+            .map(|k| {
+                let t = 2.0 * PI * k as f64 / m as f64;
+                Vec3::new(t.cos(), t.sin(), z)
+            })
+            .collect();
+        if flip {
+            v.reverse();
+        }
+        (v, 0.5 * m as f64 * (2.0 * PI / m as f64).sin())
+    }
+
+    /// F between coaxial disks of area `area` at distance d (Howell C-41) in its
+    /// cancellation-free form: X = 2 + d^2 / r^2, F = 2 / (X + sqrt(X^2 - 4)). Regular m-gons
+    /// of that area differ by their second moments, ~(2 pi / m)^2 / 6, which moves F by that
+    /// times (r / d)^2: below 1e-8 for the cases here.
+    fn equal_disks(area: f64, d: f64) -> f64 {
+        let x = 2.0 + d * d * PI / area;
+        2.0 / (x + (x * x - 4.0).sqrt())
+    }
+
+    /// Far apart, against the coaxial disk-to-disk closed form.
     #[test]
     fn far_coaxial_regular_polygons_approach_the_disk_closed_form() {
-        let m = 256;
-        let ring = |z: f64, flip: bool| -> Vec<Vec3> {
-            let mut v: Vec<Vec3> = (0..m)
-                .map(|k| {
-                    let t = 2.0 * PI * k as f64 / m as f64;
-                    Vec3::new(t.cos(), t.sin(), z)
-                })
-                .collect();
-            if flip {
-                v.reverse();
-            }
-            v
-        };
         for d in [100.0, 1e3, 1e5] {
-            let (src, tgt) = (ring(0.0, false), ring(d, true));
-            let area = 0.5 * m as f64 * (2.0 * PI / m as f64).sin();
+            let ((src, area), (tgt, _)) = (ring(256, 0.0, false), ring(256, d, true));
             let got = lambert_over_area(&src, Vec3::Z, &tgt, 1e-14).unwrap() / area;
-            // Equal disks of the polygons' area: X = 2 + d^2 / r^2, F = 2 / (X + sqrt(X^2 - 4)).
-            // The polygons' second moments differ from the disks' by ~(2 pi / m)^2 / 6, which
-            // moves F by that times (r / d)^2: below 1e-8 here.
-            let x = 2.0 + d * d * PI / area;
-            let want = 2.0 / (x + (x * x - 4.0).sqrt());
+            let want = equal_disks(area, d);
             assert!((got - want).abs() <= 1e-9 * want, "{d}: {got} {want}");
         }
     }
 
     #[test]
     fn area_area_far_apart_and_refused_near() {
-        let m = 64;
-        let ring = |z: f64, flip: bool| -> Vec<Vec3> {
-            let mut v: Vec<Vec3> = (0..m)
-                .map(|k| {
-                    let t = 2.0 * PI * k as f64 / m as f64;
-                    Vec3::new(t.cos(), t.sin(), z)
-                })
-                .collect();
-            if flip {
-                v.reverse();
-            }
-            v
-        };
-        let area = 0.5 * m as f64 * (2.0 * PI / m as f64).sin();
         for d in [1e2, 1e4, 1e6] {
-            let got = area_area(&ring(0.0, false), Vec3::Z, &ring(d, true), -Vec3::Z).expect("converged") / area;
-            // equal-area disks (Howell C-41), the polygons' second moments moving F by < 1e-8
-            let x = 2.0 + d * d * PI / area;
-            let want = 2.0 / (x + (x * x - 4.0).sqrt());
+            let ((src, area), (tgt, _)) = (ring(64, 0.0, false), ring(64, d, true));
+            let got = area_area(&src, Vec3::Z, &tgt, -Vec3::Z).expect("converged") / area;
+            let want = equal_disks(area, d);
             assert!((got - want).abs() <= 1e-8 * want, "{d}: {got} {want}");
         }
         // one radius apart the two orders differ: refused
-        assert!(area_area(&ring(0.0, false), Vec3::Z, &ring(1.0, true), -Vec3::Z).is_none());
+        assert!(area_area(&ring(64, 0.0, false).0, Vec3::Z, &ring(64, 1.0, true).0, -Vec3::Z).is_none());
+    }
+
+    #[test]
+    fn line_contacts_are_told_from_point_contacts() {
+        let v = |x: f64, y: f64, z: f64| Vec3::new(x, y, z);
+        let floor = [v(0.0, 0.0, 0.0), v(1.0, 0.0, 0.0), v(1.0, 1.0, 0.0), v(0.0, 1.0, 0.0)];
+        // a wall on the floor's edge y = 0 (shared edge), on part of it, and one touching
+        // the floor's corner only
+        let wall = [v(0.0, 0.0, 0.0), v(0.0, 0.0, 1.0), v(1.0, 0.0, 1.0), v(1.0, 0.0, 0.0)];
+        let part = [v(0.2, 0.0, 0.0), v(0.2, 0.0, 1.0), v(0.6, 0.0, 1.0), v(0.6, 0.0, 0.0)];
+        let corner = [v(1.0, 1.0, 0.0), v(1.0, 1.0, 1.0), v(2.0, 1.0, 1.0), v(2.0, 1.0, 0.0)];
+        assert!(touching(&floor, &wall));
+        assert!(touching(&floor, &part));
+        assert!(!touching(&floor, &corner));
+        // collinear edges that only meet end to end are a point contact
+        let beyond = [v(1.0, 0.0, 0.0), v(1.0, 0.0, 1.0), v(2.0, 0.0, 1.0), v(2.0, 0.0, 0.0)];
+        assert!(!touching(&floor, &beyond));
     }
 
     #[test]

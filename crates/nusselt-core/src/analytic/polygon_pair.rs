@@ -82,9 +82,9 @@ pub fn edge_pair_log_integral(p0: Vec3, p1: Vec3, q0: Vec3, q1: Vec3) -> f64 {
     let w = p0 - q0;
     if sin <= PARALLEL_SIN || !diverge(p0, p1, u, q0, q1, v, lmax) {
         let (lp, lq) = ((q0 - p0).dot(u), (q1 - p0).dot(u));
-        let reach = lp.abs().max(lq.abs()).max((la - lp).abs()).max((la - lq).abs()).max((w - w.dot(u) * u).length());
+        let d = (w - w.dot(u) * u).length();
+        let reach = lp.abs().max(lq.abs()).max((la - lp).abs()).max((la - lq).abs()).max(d);
         if cancels(reach, la, lb) {
-            let d = (w - w.dot(u) * u).length();
             return parallel_by_offset(la, lp, lq, d).unwrap_or_else(|| b * single_line(p0, la, u, q0, q1, v, 0.0, 0.0, w));
         }
         return parallel_pair(p0, la, u, q0, q1, lmax);
