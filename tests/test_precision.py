@@ -124,13 +124,11 @@ def test_shared_edge_with_a_nearly_collinear_neighbour(method):
     assert nusselt.view_factor(a, b, method=method) == pytest.approx(want, rel=1e-12, abs=0)
 
 
-@pytest.mark.xfail(strict=True, reason="open in issue 2: slivers touching the other polygon along a "
-                   "line; the contour sum cancels by ~1e6 and the area route cannot take a line contact")
 @pytest.mark.parametrize("method", EXACT)
 def test_sliver_touching_along_a_shared_edge(method):
     """Concave outlines sharing an edge at 6 degrees, clipped to slivers by each other's plane
-    (F = 1.05e-8): off by 2.4e-9 (analytic, auto) and 2.5e-9 (contour) against the issue's
-    1e-9. Strict: when a fix lands this XPASS fails, and the mark must go."""
+    (F = 1.05e-8); the contour sum cancels by ~1e8. It was off by 2.4e-9 (analytic, auto) and
+    2.5e-9 (contour) before the line-contact area route."""
     a = np.array([[-0.7383404284573479, -0.9317304627623209, -0.14324599568270568],
                   [-0.7732346467236046, -1.081900739925155, -0.1191333562245947],
                   [-0.720008087453198, -1.0478939108945375, -0.09885034447295385],
@@ -146,7 +144,45 @@ def test_sliver_touching_along_a_shared_edge(method):
                   [-0.8043191508714878, -1.1154520219821198, -0.13054074492994272],
                   [-0.7309335181407675, -1.13440420145182, -0.07139890679855243]])
     want = float(view_factor_mp(a, b))
-    assert nusselt.view_factor(a, b, method=method) == pytest.approx(want, rel=1e-9, abs=0)
+    # measured: 7.4e-12 (every method: they share the area route)
+    assert nusselt.view_factor(a, b, method=method) == pytest.approx(want, rel=1e-10, abs=0)
+
+
+def strip_on_plate(kind, degrees, width):
+    """The unit plate z = 0 (facing +z) and a strip of `width` rising from it at `degrees`
+    about the x axis: standing on the line y = 0.5 inside the plate ("inside"), on the
+    plate's edge y = 0 ("edge"), on a line that runs off the plate ("part"), or piercing the
+    plate through that line ("pierce", width on each side)."""
+    plate = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]], float)
+    y0 = 0.0 if kind == "edge" else 0.5
+    x0, x1 = {"edge": (0.0, 1.0), "part": (-0.3, 0.7)}.get(kind, (0.2, 0.8))
+    t = np.radians(degrees)
+    d = np.array([0.0, np.cos(t), np.sin(t)]) * width
+    base = np.array([[x0, y0, 0.0], [x1, y0, 0.0]])
+    if kind == "pierce":
+        base, d = base - d, 2 * d
+    return plate, np.array([base[0], base[0] + d, base[1] + d, base[1]])
+
+
+@functools.lru_cache
+def strip_reference(kind, degrees):
+    return float(view_factor_mp(*strip_on_plate(kind, degrees, 1e-6)))
+
+
+@pytest.mark.parametrize("method", EXACT)
+@pytest.mark.parametrize("kind", ["inside", "edge", "part", "pierce"])
+@pytest.mark.parametrize("degrees", [6, 90, 174])
+def test_thin_strip_touching_a_plate_along_a_line(method, kind, degrees):
+    """A strip 1e-6 wide touching a plate along a line: Lambert's integrand over the strip is
+    singular all along the contact, and the contour sum cancels by ~1e6. Before the
+    line-contact route: up to 2.1e-8 (inside), 1.7e-8 (edge), 4.4e-8 (pierce), 2.8e-8 (part);
+    at width 1e-8 up to 1.2e-6."""
+    plate, strip = strip_on_plate(kind, degrees, 1e-6)
+    want = strip_reference(kind, degrees)
+    # measured: <= 1.5e-14, except a piercing strip (2.8e-11), whose cut vertices are rounded
+    # to eps |x| against its width: the input's own precision
+    rel = 1e-10 if kind == "pierce" else 1e-12
+    assert nusselt.view_factor(plate, strip, method=method) == pytest.approx(want, rel=rel, abs=0)
 
 
 @pytest.mark.slow

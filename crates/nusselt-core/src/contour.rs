@@ -70,9 +70,11 @@ pub fn polygon_pair(a: &Polygon, b: &Polygon, nodes: usize) -> Result<f64> {
         }
     }
     // A sum that cancels heavily (a sliver, a pair far apart) is recomputed by the
-    // well-conditioned area route, as in the analytic method.
-    let g_ab = if_cancelling(&pa, a.normal(), &pb, b.normal(), sum, mag).unwrap_or(sum / (4.0 * PI));
-    Ok((g_ab * scale * scale).max(0.0))
+    // well-conditioned area route on the outlines as given, as in the analytic method.
+    if let Some(g) = if_cancelling(&ca, a.normal(), &cb, b.normal(), sum, mag) {
+        return Ok(g);
+    }
+    Ok((sum / (4.0 * PI) * scale * scale).max(0.0))
 }
 
 /// (d_i·d_j) ∫_{p→q} ∫_{r→s} ln |x - y|² dy dx for segments p→q (edge i) and r→s (edge j).

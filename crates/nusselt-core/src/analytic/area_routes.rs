@@ -12,11 +12,19 @@
 //!   relative to itself up to the cancellation inside Lambert's sum (about the ratio of t's
 //!   distance to its size). The integrand is analytic away from t, so Gauss converges
 //!   geometrically on a source that does not touch the target, and refinement resolves a
-//!   contact at a point; a pair touching along a line is refused and the caller keeps its sum.
+//!   contact at a point;
+//! * touching along one line (a shared edge, the cut of a piercing pair): the same integral
+//!   in coordinates along and across the line, graded towards it and towards the contact's
+//!   ends ([`lambert_along_line`]).
+//!
+//! The routes work on the clipped outlines as given, not in the caller's shifted and scaled
+//! frame: a sliver's width is known to the rounding of its own coordinates, and a frame
+//! change would round it again (eps / width relative: 1.9e-9 for a strip 1e-8 wide).
 
 use super::lambert::point_contour_terms;
 use crate::geometry::{bounding_diameter, segment_distance, Vec3};
-use crate::quadrature::triangle_rule;
+use crate::quadrature::{gauss_legendre, triangle_rule};
+use std::cell::Cell;
 
 /// Cancellation ratio above which a contour sum is recomputed by the area route. Each term
 /// of a contour sum is accurate to a few eps, so its relative error is up to ~3e-14 times the
@@ -24,13 +32,15 @@ use crate::quadrature::triangle_rule;
 const ILL_CONDITIONED: f64 = 2e3;
 
 /// A_a F_ab by an area route when a contour sum over the clipped outlines `pa`, `pb`
-/// (normals `na`, `nb`) cancels by more than ILL_CONDITIONED: `sum` of edge-pair terms, `mag`
-/// of their magnitudes. The cancellation counted is the larger of mag / |sum| (between terms)
-/// and (distance / size)^2 (inside each term for a pair far apart compared with its size,
-/// where the inner integrals cancel like that). None when the sum is well conditioned, the
-/// outlines touch along a line (Lambert's integrand is singular all along it), or the area route
-/// does not converge: the caller keeps its sum. Pairs far apart go to [`area_area`], the
-/// rest (and far pairs it refuses) to [`lambert_over_area`] over the smaller outline.
+/// (normals `na`, `nb`; in the input's coordinates) cancels by more than ILL_CONDITIONED:
+/// `sum` of edge-pair terms, `mag` of their magnitudes (in any frame). The cancellation
+/// counted is the larger of mag / |sum| (between terms) and (distance / size)^2 (inside each
+/// term for a pair far apart compared with its size, where the inner integrals cancel like
+/// that). None when the sum is well conditioned, the outlines touch along several lines or
+/// nearly along one ([`Contact::Other`]), or the area route does not converge: the caller
+/// keeps its sum. Pairs far apart go to [`area_area`], the rest (and far pairs it refuses)
+/// to [`lambert_over_area`] or, touching along a line, [`lambert_along_line`], over the
+/// smaller outline.
 pub fn if_cancelling(pa: &[Vec3], na: Vec3, pb: &[Vec3], nb: Vec3, sum: f64, mag: f64) -> Option<f64> {
     let (da, db) = (bounding_diameter(pa), bounding_diameter(pb));
     let mean = |p: &[Vec3]| p.iter().fold(Vec3::ZERO, |s, v| s + *v) / p.len() as f64;
@@ -44,12 +54,13 @@ pub fn if_cancelling(pa: &[Vec3], na: Vec3, pb: &[Vec3], nb: Vec3, sum: f64, mag
             return Some(g);
         }
     }
-    // (tested only here: outlines 45 sizes apart cannot touch)
-    if touching(pa, pb) {
-        return None;
-    }
     let (src, n, tgt) = if da <= db { (pa, na, pb) } else { (pb, nb, pa) };
-    lambert_over_area(src, n, tgt, 1e-14)
+    // (tested only here: outlines 45 sizes apart cannot touch)
+    match contact(src, n, tgt) {
+        Contact::Points => lambert_over_area(src, n, tgt, 1e-14),
+        Contact::Line(p, u) => lambert_along_line(src, n, tgt, p, u),
+        Contact::Other => None,
+    }
 }
 
 /// Gauss orders per direction compared by [`area_area`], and the relative agreement that
@@ -91,31 +102,236 @@ fn area_area(pa: &[Vec3], na: Vec3, pb: &[Vec3], nb: Vec3) -> Option<f64> {
     (hi > 0.0 && (hi - lo).abs() <= AREA_AGREE * hi).then_some(hi)
 }
 
-/// Whether the two outlines meet along a line: a pair of edges nearly collinear and
-/// overlapping (within 1e-3 of the smaller outline), as the cut edges of a piercing pair or
-/// a shared edge. Lambert's integrand is singular all along such a contact and the area
-/// route would not converge; a contact at isolated points (a shared vertex, a vertex on
-/// the other's edge, crossing edges) it resolves by refining towards the point.
-fn touching(pa: &[Vec3], pb: &[Vec3]) -> bool {
-    let tol = 1e-3 * bounding_diameter(pa).min(bounding_diameter(pb));
+/// How two clipped outlines meet along lines: an edge of each nearly collinear with the other
+/// and their spans overlapping (within 1e-3 of the smaller outline), as the cut edges of a
+/// piercing pair or a shared edge.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Contact {
+    /// Not along a line: apart, or at isolated points (a shared vertex, a vertex on the other's
+    /// edge, crossing edges), which [`adaptive_area`] resolves by refining towards the point.
+    Points,
+    /// Along one line, to rounding (SNAP): a vertex of the source on it and its unit direction.
+    Line(Vec3, Vec3),
+    /// Along several lines, or nearly along one (a gap or tilt above rounding): no area route.
+    Other,
+}
+
+/// Distance (relative to the pair's size) within which a vertex counts as lying on a contact
+/// line: a few hundred eps, the rounding of a clipped vertex; [`lambert_along_line`] moves such
+/// vertices onto the line.
+const SNAP: f64 = 1e-13;
+
+/// [`Contact`] of `src` (plane normal `n_src`) with `tgt`, the line taken through an edge of
+/// `src`.
+fn contact(src: &[Vec3], n_src: Vec3, tgt: &[Vec3]) -> Contact {
+    let tol = 1e-3 * bounding_diameter(src).min(bounding_diameter(tgt));
+    let snap = SNAP * bounding_diameter(src).max(bounding_diameter(tgt));
     let edges = |p: &[Vec3]| (0..p.len()).map(move |i| (p[i], p[(i + 1) % p.len()])).collect::<Vec<_>>();
-    let (ea, eb) = (edges(pa), edges(pb));
+    let (es, et) = (edges(src), edges(tgt));
     let off_line = |x: Vec3, p: Vec3, u: Vec3| {
         let r = x - p;
         (r - r.dot(u) * u).length()
     };
-    ea.iter().any(|&(p, q)| {
+    // Pairs of edges along a line: exactly (every end within `snap` of the source edge's line)
+    // or nearly.
+    let mut exact: Option<(Vec3, Vec3)> = None;
+    let mut near = Vec::new();
+    for &(p, q) in &es {
         let len = (q - p).length();
         let u = (q - p) / len;
-        eb.iter().any(|&(r, s)| {
+        for &(r, s) in &et {
             if segment_distance(p, q, r, s) > tol || off_line(r, p, u) > tol || off_line(s, p, u) > tol {
-                return false;
+                continue;
             }
             // collinear: do their spans along the line overlap by more than tol?
             let (t0, t1) = ((r - p).dot(u), (s - p).dot(u));
-            t0.max(t1).min(len) - t0.min(t1).max(0.0) > tol
+            if t0.max(t1).min(len) - t0.min(t1).max(0.0) <= tol {
+                continue;
+            }
+            if off_line(r, p, u).max(off_line(s, p, u)) <= snap {
+                let (p0, u0) = *exact.get_or_insert((p, u));
+                if [p, q].iter().any(|&x| off_line(x, p0, u0) > snap) {
+                    return Contact::Other; // a second line
+                }
+            } else {
+                near.push((r, s));
+            }
+        }
+    }
+    // A target edge near a source edge but off the line within the source's plane (a gap, a
+    // tilt) would be a singularity the grading does not see; one over the contact line (on
+    // it, as beside the far edge of a thin source strip, or above it, as the far edge of a
+    // thin target strip) is a singularity at d = 0 that the grading resolves.
+    let over = |x: Vec3, p: Vec3, u: Vec3| (x - p).dot(n_src.cross(u)).abs() <= snap;
+    match exact {
+        None if near.is_empty() => Contact::Points,
+        Some((p, u)) if near.iter().all(|&(r, s)| over(r, p, u) && over(s, p, u)) => Contact::Line(p, u),
+        _ => Contact::Other,
+    }
+}
+
+/// Gauss order per piece of [`lambert_along_line`]'s adaptive rules, and the most bisections
+/// it spends (inner and outer together) before giving up.
+const LINE_ORDER: usize = 8;
+const LINE_BUDGET: usize = 40_000;
+/// Relative tolerance of each piece (to the integral it belongs to); up to ~100 pieces add up.
+const LINE_TOL: f64 = 1e-14;
+/// Rounding of Lambert's sum along the contact, in units of its magnitude: measured jitter up
+/// to ~300 eps beside a target seen nearly edge-on (its edges nearly end-on).
+const LINE_NOISE: f64 = 1024.0 * f64::EPSILON;
+/// Ratio of the geometric grading towards the contact line (in the distance d from it) and
+/// towards the contact's ends (along it, in units of d) that the adaptive rules start from.
+const GRADING: f64 = 0.25;
+/// Innermost level of the grading towards the line, relative to the source's extent from it:
+/// the strip inside contributes its width times a bounded integrand.
+const LINE_DEPTH: f64 = 1e-18;
+
+/// int over the source polygon `src` (plane normal `n_src`) of Lambert's F to `target`, for a
+/// source touching the target along the line through `p` with direction `u` (a shared edge,
+/// or the cut of a piercing pair; `p` on an edge of `src`). Lambert's integrand is bounded
+/// but singular all along the contact, ~ d ln d in the distance d from the line, and at the
+/// contact's ends it depends on the direction to the end, so no polynomial rule on triangles
+/// converges. In the source's plane with coordinates s along the line and d across it:
+///   A F = int dd J(d),  J(d) = int_{chords of src at d} F(s, d) ds,
+/// both by adaptive Gauss (bisect a piece until it and its halves agree). The outer rule
+/// starts from slabs between the vertices' levels and levels graded geometrically towards
+/// d = 0; the inner one from each chord cut at the contact's ends (the target's vertices on
+/// the line) and at distances |d| / GRADING^j from them; bisection then resolves what the
+/// grading does not foresee (target edges leaving an end close to the source's plane). The
+/// frame has the line as the s axis, with the target's vertices on it moved exactly onto it
+/// (by at most SNAP), so points at any small d keep their position relative to the contact.
+/// None when the rules take more than LINE_BUDGET bisections.
+fn lambert_along_line(src: &[Vec3], n_src: Vec3, target: &[Vec3], p: Vec3, u: Vec3) -> Option<f64> {
+    let v = n_src.cross(u);
+    let snap = SNAP * bounding_diameter(src).max(bounding_diameter(target));
+    let local = |x: Vec3| {
+        let r = x - p;
+        Vec3::new(r.dot(u), r.dot(v), r.dot(n_src))
+    };
+    // The source in its plane (s, d); the target in the frame (s, d, height).
+    let sd: Vec<(f64, f64)> = src
+        .iter()
+        .map(|x| {
+            let w = local(*x);
+            (w.x, if w.y.abs() <= snap { 0.0 } else { w.y })
         })
-    })
+        .collect();
+    let snapped = |x: f64| if x.abs() <= snap { 0.0 } else { x };
+    let tgt: Vec<Vec3> = target
+        .iter()
+        .map(|x| {
+            let w = local(*x);
+            Vec3::new(w.x, snapped(w.y), snapped(w.z))
+        })
+        .collect();
+    // Where the target's vertices on (or over) the line are, the integrand near the line
+    // changes on the scale of d.
+    let ends: Vec<f64> = tgt.iter().filter(|w| w.y == 0.0).map(|w| w.x).collect();
+    // Levels in d: the vertices', 0, and geometric towards 0 from either side.
+    let mut levels: Vec<f64> = sd.iter().map(|w| w.1).collect();
+    levels.push(0.0);
+    for extent in [levels.iter().cloned().fold(0.0, f64::max), levels.iter().cloned().fold(0.0, f64::min)] {
+        let mut l = extent * GRADING;
+        while l.abs() > extent.abs() * LINE_DEPTH {
+            levels.push(l);
+            l *= GRADING;
+        }
+    }
+    levels.sort_by(f64::total_cmp);
+    levels.dedup();
+    // The pieces of the chords of the source at d, cut as above.
+    let pieces_at = |d: f64| -> Vec<(f64, f64)> {
+        let mut chords = Vec::new();
+        for k in 0..sd.len() {
+            let (a, b) = (sd[k], sd[(k + 1) % sd.len()]);
+            // no vertex lies at a Gauss node's d
+            if (a.1 > d) != (b.1 > d) {
+                chords.push(a.0 + (d - a.1) / (b.1 - a.1) * (b.0 - a.0));
+            }
+        }
+        chords.sort_by(f64::total_cmp);
+        let mut cuts = Vec::new();
+        for c in chords.chunks_exact(2) {
+            let (a, b) = (c[0], c[1]);
+            cuts.extend([a, b]);
+            for &e in &ends {
+                let mut r = 0.0;
+                while e - r > a || e + r < b {
+                    cuts.extend([e - r, e + r].into_iter().filter(|&x| x > a && x < b));
+                    r = if r == 0.0 { d.abs() } else { r / GRADING };
+                }
+            }
+        }
+        cuts.sort_by(f64::total_cmp);
+        cuts.dedup();
+        // pieces between chords (outside the source) are skipped by the parity of the cut
+        let inside = |x: f64| chords.partition_point(|&c| c <= x) % 2 == 1;
+        cuts.windows(2).map(|w| (w[0], w[1])).filter(|w| inside(0.5 * (w.0 + w.1))).collect()
+    };
+    let lambert = |s: f64, d: f64| point_contour_terms(Vec3::new(s, d, 0.0), Vec3::Z, &tgt);
+    let rule = gauss_legendre(LINE_ORDER);
+    let gauss = |a: f64, b: f64, g: &mut dyn FnMut(f64) -> f64| (b - a) * rule.iter().map(|&(x, w)| w * g(a + (b - a) * x)).sum::<f64>();
+    let slabs: Vec<(f64, f64)> = levels.windows(2).map(|w| (w[0], w[1])).collect();
+    // First estimate of the whole, on the starting pieces: it sets the absolute tolerances.
+    let estimate: f64 = slabs
+        .iter()
+        .map(|&(a, b)| gauss(a, b, &mut |d| pieces_at(d).iter().map(|&(s0, s1)| gauss(s0, s1, &mut |s| lambert(s, d).0)).sum()))
+        .sum();
+    if !(estimate > 0.0) {
+        return None;
+    }
+    let budget = Cell::new(LINE_BUDGET);
+    // J(d) at a node of an outer piece of width h: its error enters the whole times h at most,
+    // so its tolerance is LINE_TOL * estimate / h or relative to J itself, whichever is looser
+    // (near the line, where Lambert's sum is rounding noise, only the first is attainable).
+    // An inner rule that gives up makes the outer one give up: NaN is not finite.
+    let chord_integral = |d: f64, h: f64| -> (f64, f64) {
+        adaptive_gauss(&pieces_at(d), rule, &budget, LINE_TOL * estimate / h, |s, _| lambert(s, d)).unwrap_or((f64::NAN, f64::NAN))
+    };
+    let (g, _) = adaptive_gauss(&slabs, rule, &budget, LINE_TOL * estimate, chord_integral)?;
+    (g > 0.0).then_some(g)
+}
+
+/// int of `g(x, width of x's piece)` (returning the integrand and the magnitude its rounding
+/// scales with) over the union of `pieces`, by `rule` (Gauss on [0, 1]) on each piece,
+/// bisected until a piece's value and the sum of its halves' differ by less than `floor`,
+/// LINE_TOL times the first estimate of the whole (the integrand is non-negative), or the
+/// rounding of the integrand (LINE_NOISE times the integrated magnitude). Returns the integral
+/// and the integrated magnitude; None when more than `budget` bisections are needed or the
+/// integrand is not finite.
+fn adaptive_gauss(pieces: &[(f64, f64)], rule: &[(f64, f64)], budget: &Cell<usize>, floor: f64, mut g: impl FnMut(f64, f64) -> (f64, f64)) -> Option<(f64, f64)> {
+    let mut gauss = |a: f64, b: f64| {
+        rule.iter().fold((0.0, 0.0), |(v, m), &(x, w)| {
+            let (fv, fm) = g(a + (b - a) * x, b - a);
+            (v + (b - a) * w * fv, m + (b - a) * w * fm)
+        })
+    };
+    let mut work: Vec<(f64, f64, (f64, f64))> = pieces.iter().map(|&(a, b)| (a, b, gauss(a, b))).collect();
+    let first: f64 = work.iter().map(|w| w.2 .0).sum();
+    if !first.is_finite() {
+        return None;
+    }
+    let (mut sum, mut mag) = (0.0, 0.0);
+    while let Some((a, b, whole)) = work.pop() {
+        let m = 0.5 * (a + b);
+        let (l, r) = (gauss(a, m), gauss(m, b));
+        let (parts, parts_mag) = (l.0 + r.0, l.1 + r.1);
+        if !parts.is_finite() {
+            return None;
+        }
+        if (parts - whole.0).abs() <= (LINE_TOL * first.abs()).max(floor).max(LINE_NOISE * parts_mag) || !(a < m && m < b) {
+            sum += parts;
+            mag += parts_mag;
+            continue;
+        }
+        if budget.get() == 0 {
+            return None;
+        }
+        budget.set(budget.get() - 1);
+        work.push((a, m, l));
+        work.push((m, b, r));
+    }
+    Some((sum, mag))
 }
 
 /// Order per direction of the triangle rule in [`adaptive_area`].
@@ -293,12 +509,71 @@ mod tests {
         let wall = [v(0.0, 0.0, 0.0), v(0.0, 0.0, 1.0), v(1.0, 0.0, 1.0), v(1.0, 0.0, 0.0)];
         let part = [v(0.2, 0.0, 0.0), v(0.2, 0.0, 1.0), v(0.6, 0.0, 1.0), v(0.6, 0.0, 0.0)];
         let corner = [v(1.0, 1.0, 0.0), v(1.0, 1.0, 1.0), v(2.0, 1.0, 1.0), v(2.0, 1.0, 0.0)];
+        let touching = |a: &[Vec3], b: &[Vec3]| contact(a, Vec3::Z, b) != Contact::Points;
         assert!(touching(&floor, &wall));
         assert!(touching(&floor, &part));
         assert!(!touching(&floor, &corner));
         // collinear edges that only meet end to end are a point contact
         let beyond = [v(1.0, 0.0, 0.0), v(1.0, 0.0, 1.0), v(2.0, 0.0, 1.0), v(2.0, 0.0, 0.0)];
         assert!(!touching(&floor, &beyond));
+        // the line runs through an edge of the source (the first argument)
+        assert_eq!(contact(&wall, Vec3::Y, &floor), Contact::Line(v(1.0, 0.0, 0.0), -Vec3::X));
+        // a strip 1e-6 tall on the floor's edge: its top edge is near the contact line too, as
+        // a source edge beside the line, or as a target edge over it
+        let strip = [v(0.0, 0.0, 0.0), v(0.0, 0.0, 1e-6), v(1.0, 0.0, 1e-6), v(1.0, 0.0, 0.0)];
+        assert_eq!(contact(&strip, Vec3::Y, &floor), Contact::Line(v(1.0, 0.0, 0.0), -Vec3::X));
+        assert!(matches!(contact(&floor, Vec3::Z, &strip), Contact::Line(..)));
+        // a wall 1e-6 above the floor's edge (a gap), or tilted off it by 1e-6: nearly along
+        // a line, which no area route takes
+        let gap = wall.map(|x| x + v(0.0, 0.0, 1e-6));
+        assert_eq!(contact(&gap, Vec3::Y, &floor), Contact::Other);
+        let tilted = [v(0.0, 0.0, 0.0), v(0.0, 0.0, 1.0), v(1.0, 0.0, 1.0), v(1.0, 1e-6, 0.0)];
+        assert_eq!(contact(&tilted, Vec3::Y, &floor), Contact::Other);
+        // along two lines (an L-shaped wall on two edges of the floor): Other
+        let two = [v(0.0, 1.0, 0.0), v(0.0, 0.0, 0.0), v(1.0, 0.0, 0.0), v(1.0, 0.0, 1.0), v(0.0, 0.0, 1.0), v(0.0, 1.0, 1.0)];
+        assert_eq!(contact(&floor, Vec3::Z, &two), Contact::Other);
+    }
+
+    /// The line route against Howell C-14 (perpendicular rectangles sharing an edge, in
+    /// closed_forms.rs), for a wall of height h on the floor's edge, from either side: the
+    /// integrand is singular along the whole source edge on the contact, and at its ends the
+    /// target's side edges leave the contact in the source's plane.
+    #[test]
+    fn line_route_matches_perpendicular_rectangles_sharing_an_edge() {
+        let v = |x: f64, y: f64, z: f64| Vec3::new(x, y, z);
+        let floor = [v(0.0, 0.0, 0.0), v(1.0, 0.0, 0.0), v(1.0, 1.0, 0.0), v(0.0, 1.0, 0.0)];
+        for h in [1.0, 0.1, 1e-2] {
+            let wall = [v(0.0, 0.0, 0.0), v(0.0, 0.0, h), v(1.0, 0.0, h), v(1.0, 0.0, 0.0)];
+            let want = super::super::closed_forms::perpendicular_rectangles(1.0, 1.0, h).unwrap();
+            let g = lambert_along_line(&floor, Vec3::Z, &wall, v(0.0, 0.0, 0.0), Vec3::X).unwrap();
+            assert!((g - want).abs() <= 1e-13 * want, "floor to wall {h}: {g} {want}");
+            let g = lambert_along_line(&wall, Vec3::Y, &floor, v(1.0, 0.0, 0.0), -Vec3::X).unwrap();
+            assert!((g - want).abs() <= 1e-13 * want, "wall to floor {h}: {g} {want}");
+        }
+    }
+
+    /// Additivity along and across the contact: a strip at 30 degrees on the floor's edge
+    /// y = 0.5, leaning over it, cut in two along its length, and the floor cut in two across
+    /// the contact line (which then ends inside the strip's contact). Each part goes through
+    /// the line route.
+    #[test]
+    fn line_route_is_additive() {
+        let v = |x: f64, y: f64, z: f64| Vec3::new(x, y, z);
+        let (c, s) = (30f64.to_radians().cos(), 30f64.to_radians().sin());
+        let w = 1e-5;
+        let n = v(0.0, -s, c); // the strip's normal, facing the floor
+        let strip = |x0: f64, x1: f64| [v(x0, 0.5, 0.0), v(x1, 0.5, 0.0), v(x1, 0.5 + w * c, w * s), v(x0, 0.5 + w * c, w * s)];
+        let floor = |x0: f64, x1: f64| [v(x0, 0.0, 0.0), v(x1, 0.0, 0.0), v(x1, 0.5, 0.0), v(x0, 0.5, 0.0)];
+        let g = |src: &[Vec3], tgt: &[Vec3]| {
+            let Contact::Line(p, u) = contact(src, n, tgt) else { panic!("line contact expected") };
+            lambert_along_line(src, n, tgt, p, u).unwrap()
+        };
+        let whole = g(&strip(0.2, 0.8), &floor(0.0, 1.0));
+        let along = g(&strip(0.2, 0.45), &floor(0.0, 1.0)) + g(&strip(0.45, 0.8), &floor(0.0, 1.0));
+        let across = g(&strip(0.2, 0.8), &floor(0.0, 0.6)) + g(&strip(0.2, 0.8), &floor(0.6, 1.0));
+        for (name, parts) in [("along", along), ("across", across)] {
+            assert!((parts - whole).abs() <= 1e-13 * whole, "{name}: {parts} {whole}");
+        }
     }
 
     #[test]

@@ -351,9 +351,10 @@ pub fn polygon_pair(a: &Polygon, b: &Polygon) -> f64 {
         }
     }
     // A sum that cancels heavily (a sliver, a pair far apart) is recomputed by the
-    // well-conditioned area route.
-    if let Some(g) = if_cancelling(&pa, a.normal(), &pb, b.normal(), sum, mag) {
-        return g * size * size;
+    // well-conditioned area route, on the outlines as given: a sliver's width is known to the
+    // rounding of its coordinates, and the frame's shift would round it again.
+    if let Some(g) = if_cancelling(&ca, a.normal(), &cb, b.normal(), sum, mag) {
+        return g;
     }
     let v = sum / (4.0 * PI);
     let v = if v < 0.0 && v > -1e-13 * mag { 0.0 } else { v };
