@@ -144,7 +144,29 @@ def test_sliver_touching_along_a_shared_edge(method):
                   [-0.8043191508714878, -1.1154520219821198, -0.13054074492994272],
                   [-0.7309335181407675, -1.13440420145182, -0.07139890679855243]])
     want = float(view_factor_mp(a, b))
-    # measured: 7.4e-12 (every method: they share the area route)
+    # measured: 2.6e-12 (every method: they share the area route)
+    assert nusselt.view_factor(a, b, method=method) == pytest.approx(want, rel=1e-10, abs=0)
+
+
+@pytest.mark.parametrize("method", EXACT)
+def test_needle_sharing_an_edge(method):
+    """A needle triangle (2e-5 wide over 1.1) sharing part of an edge with a concave 8-gon.
+    The line-contact route measures the target from the needle's plane, whose normal plain
+    arithmetic gets only to ~eps / 2e-5 (8e-13 rad): that tilt made F off by 1.1e-8 until the
+    normal was computed in double-double (geometry::accurate_normal)."""
+    a = np.array([[0.364862251451374, -1.3296571381595401, 2.067763979921847],
+                  [0.7912533306818839, -1.5668301617152123, 3.0967663118583935],
+                  [0.6017280497694927, -1.3582098023131532, 2.237544658763013],
+                  [0.6345368502637483, -1.3494000072964338, 2.211357817513775],
+                  [0.42298733962958546, -1.1621183258370495, 1.4297764997090183],
+                  [0.06411917470349537, -1.2050223753985698, 1.5080523790121205],
+                  [0.18223313531543042, -1.2696498505199587, 1.7889226564623266],
+                  [-0.21859062082172043, -1.4559337109010255, 2.415115335821366]])
+    b = np.array([[0.7912533306818839, -1.5668301617152123, 3.0967663118583935],
+                  [0.3648622514513743, -1.3296571381595401, 2.067763979921847],
+                  [0.40741571186012876, -1.3533031290551816, 2.1704544794618967]])
+    want = float(view_factor_mp(a, b))
+    # measured: 1.2e-11 (every method)
     assert nusselt.view_factor(a, b, method=method) == pytest.approx(want, rel=1e-10, abs=0)
 
 
