@@ -107,17 +107,18 @@ fn area_area(pa: &[Vec3], na: Vec3, pb: &[Vec3], nb: Vec3) -> Option<f64> {
     (hi > 0.0 && (hi - lo).abs() <= AREA_AGREE * hi).then_some(hi)
 }
 
-/// How two clipped outlines meet along lines: an edge of each nearly collinear with the other
-/// and their spans overlapping (within 1e-3 of the smaller outline), as the cut edges of a
-/// piercing pair or a shared edge.
+/// How the target comes near the source along lines: a target edge nearly collinear with a
+/// source edge, their spans overlapping (within 1e-3 of the smaller outline), as a shared
+/// edge, the cut edges of a piercing pair, or a gap between them.
 #[derive(Debug, Clone, Copy, PartialEq)]
 enum Contact {
     /// Not along a line: apart, or at isolated points (a shared vertex, a vertex on the other's
     /// edge, crossing edges), which [`adaptive_area`] resolves by refining towards the point.
     Points,
-    /// Along one line, to rounding (SNAP): a vertex of the source on it and its unit direction.
+    /// Every such target edge lies over one line of the source's plane (on it or above it, to
+    /// SNAP): a point of the line and its unit direction.
     Line(Vec3, Vec3),
-    /// Along several lines, or nearly along one (a gap or tilt above rounding): no area route.
+    /// Such target edges lie over several lines: no area route.
     Other,
 }
 
@@ -134,52 +135,50 @@ fn snap_distance(a: &[Vec3], b: &[Vec3]) -> f64 {
     SNAP * largest.max(bounding_diameter(a)).max(bounding_diameter(b))
 }
 
-/// [`Contact`] of `src` (plane normal `n_src`) with `tgt`, the line taken through an edge of
-/// `src`.
+/// [`Contact`] of `src` (plane normal `n_src`) with `tgt`. The line is the longest target
+/// edge near the source, projected into the source's plane: Lambert's integrand over the
+/// source is singular (or, for a gap, nearly so) where the target's edges are.
 fn contact(src: &[Vec3], n_src: Vec3, tgt: &[Vec3]) -> Contact {
     let tol = 1e-3 * bounding_diameter(src).min(bounding_diameter(tgt));
-    let snap = snap_distance(src, tgt);
     let edges = |p: &[Vec3]| (0..p.len()).map(move |i| (p[i], p[(i + 1) % p.len()])).collect::<Vec<_>>();
-    let (es, et) = (edges(src), edges(tgt));
     let off_line = |x: Vec3, p: Vec3, u: Vec3| {
         let r = x - p;
         (r - r.dot(u) * u).length()
     };
-    // Pairs of edges along a line: exactly (every end within `snap` of the source edge's line)
-    // or nearly.
-    let mut exact: Option<(Vec3, Vec3)> = None;
-    let mut near = Vec::new();
-    for &(p, q) in &es {
+    let mut near: Vec<(Vec3, Vec3)> = Vec::new();
+    for (p, q) in edges(src) {
         let len = (q - p).length();
         let u = (q - p) / len;
-        for &(r, s) in &et {
+        for (r, s) in edges(tgt) {
             if segment_distance(p, q, r, s) > tol || off_line(r, p, u) > tol || off_line(s, p, u) > tol {
                 continue;
             }
             // collinear: do their spans along the line overlap by more than tol?
             let (t0, t1) = ((r - p).dot(u), (s - p).dot(u));
-            if t0.max(t1).min(len) - t0.min(t1).max(0.0) <= tol {
-                continue;
-            }
-            if off_line(r, p, u).max(off_line(s, p, u)) <= snap {
-                let (p0, u0) = *exact.get_or_insert((p, u));
-                if [p, q].iter().any(|&x| off_line(x, p0, u0) > snap) {
-                    return Contact::Other; // a second line
-                }
-            } else {
+            if t0.max(t1).min(len) - t0.min(t1).max(0.0) > tol {
                 near.push((r, s));
             }
         }
     }
-    // A target edge near a source edge but off the line within the source's plane (a gap, a
-    // tilt) would be a singularity the grading does not see; one over the contact line (on
-    // it, as beside the far edge of a thin source strip, or above it, as the far edge of a
-    // thin target strip) is a singularity at d = 0 that the grading resolves.
-    let over = |x: Vec3, p: Vec3, u: Vec3| (x - p).dot(n_src.cross(u)).abs() <= snap;
-    match exact {
-        None if near.is_empty() => Contact::Points,
-        Some((p, u)) if near.iter().all(|&(r, s)| over(r, p, u) && over(s, p, u)) => Contact::Line(p, u),
-        _ => Contact::Other,
+    let Some(&(r, s)) = near.iter().max_by(|a, b| (a.1 - a.0).length_squared().total_cmp(&(b.1 - b.0).length_squared())) else {
+        return Contact::Points;
+    };
+    let onto_plane = |x: Vec3| x - n_src * n_src.dot(x - src[0]);
+    let (p, u) = (onto_plane(r), (onto_plane(s) - onto_plane(r)).normalize());
+    let across = |x: Vec3, p: Vec3, u: Vec3| (x - p).dot(n_src.cross(u)).abs();
+    let snap = snap_distance(src, tgt);
+    // A source edge on that line (a shared edge, a cut) gives the same line from the input's
+    // own vertices: measured from them, a sliver's width keeps every digit the input has
+    // (exactly, for axis-aligned input).
+    let (p, u) = edges(src)
+        .into_iter()
+        .filter(|&(a, b)| across(a, p, u) <= snap && across(b, p, u) <= snap && a != b)
+        .max_by(|x, y| (x.1 - x.0).length_squared().total_cmp(&(y.1 - y.0).length_squared()))
+        .map_or((p, u), |(a, b)| (a, (b - a).normalize()));
+    if near.iter().all(|&(r, s)| across(r, p, u) <= snap && across(s, p, u) <= snap) {
+        Contact::Line(p, u)
+    } else {
+        Contact::Other
     }
 }
 
@@ -530,19 +529,21 @@ mod tests {
         // collinear edges that only meet end to end are a point contact
         let beyond = [v(1.0, 0.0, 0.0), v(1.0, 0.0, 1.0), v(2.0, 0.0, 1.0), v(2.0, 0.0, 0.0)];
         assert!(!touching(&floor, &beyond));
-        // the line runs through an edge of the source (the first argument)
+        // the line runs through the source's edge on it (the first argument's)
         assert_eq!(contact(&wall, Vec3::Y, &floor), Contact::Line(v(1.0, 0.0, 0.0), -Vec3::X));
         // a strip 1e-6 tall on the floor's edge: its top edge is near the contact line too, as
         // a source edge beside the line, or as a target edge over it
         let strip = [v(0.0, 0.0, 0.0), v(0.0, 0.0, 1e-6), v(1.0, 0.0, 1e-6), v(1.0, 0.0, 0.0)];
         assert_eq!(contact(&strip, Vec3::Y, &floor), Contact::Line(v(1.0, 0.0, 0.0), -Vec3::X));
         assert!(matches!(contact(&floor, Vec3::Z, &strip), Contact::Line(..)));
-        // a wall 1e-6 above the floor's edge (a gap), or tilted off it by 1e-6: nearly along
-        // a line, which no area route takes
+        // a wall 1e-6 above the floor's edge (a gap): the line is the floor's edge, in the
+        // wall's plane below it
         let gap = wall.map(|x| x + v(0.0, 0.0, 1e-6));
-        assert_eq!(contact(&gap, Vec3::Y, &floor), Contact::Other);
-        let tilted = [v(0.0, 0.0, 0.0), v(0.0, 0.0, 1.0), v(1.0, 0.0, 1.0), v(1.0, 1e-6, 0.0)];
-        assert_eq!(contact(&tilted, Vec3::Y, &floor), Contact::Other);
+        assert_eq!(contact(&gap, Vec3::Y, &floor), Contact::Line(v(0.0, 0.0, 0.0), Vec3::X));
+        // a wall turned by 1e-6 about the floor's corner: the line follows the wall's bottom
+        // edge (where the integrand over the floor is singular), not the floor's edge
+        let turned = [v(0.0, 0.0, 0.0), v(0.0, 0.0, 1.0), v(1.0, 1e-6, 1.0), v(1.0, 1e-6, 0.0)];
+        assert!(matches!(contact(&floor, Vec3::Z, &turned), Contact::Line(_, u) if (u - Vec3::X).length() > 1e-7));
         // along two lines (an L-shaped wall on two edges of the floor): Other
         let two = [v(0.0, 1.0, 0.0), v(0.0, 0.0, 0.0), v(1.0, 0.0, 0.0), v(1.0, 0.0, 1.0), v(0.0, 0.0, 1.0), v(0.0, 1.0, 1.0)];
         assert_eq!(contact(&floor, Vec3::Z, &two), Contact::Other);
