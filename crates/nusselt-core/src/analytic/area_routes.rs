@@ -200,20 +200,21 @@ const GRADING: f64 = 0.25;
 const LINE_DEPTH: f64 = 1e-9;
 
 /// int over the source polygon `src` (plane normal `n_src`) of Lambert's F to `target`, for a
-/// source touching the target along the line through `p` with direction `u` (a shared edge,
-/// or the cut of a piercing pair; `p` on an edge of `src`). Lambert's integrand is bounded
-/// but singular all along the contact, ~ d ln d in the distance d from the line, and at the
-/// contact's ends it depends on the direction to the end, so no polynomial rule on triangles
-/// converges. In the source's plane with coordinates s along the line and d across it:
+/// target whose edges near the source lie over the line through `p` with direction `u` in the
+/// source's plane ([`Contact::Line`]: a shared edge, the cut of a piercing pair, a gap).
+/// Lambert's integrand is bounded but singular all along a contact, ~ d ln d in the distance
+/// d from the line (nearly so across a gap), and at the contact's ends it depends on the
+/// direction to the end, so no polynomial rule on triangles converges. In the source's plane
+/// with coordinates s along the line and d across it:
 ///   A F = int dd J(d),  J(d) = int_{chords of src at d} F(s, d) ds,
 /// both by adaptive Gauss (bisect a piece until it and its halves agree). The outer rule
 /// starts from slabs between the vertices' levels and levels graded geometrically towards
-/// d = 0; the inner one from each chord cut at the contact's ends (the target's vertices on
+/// d = 0; the inner one from each chord cut at the contact's ends (the target's vertices over
 /// the line) and at distances |d| / GRADING^j from them; bisection then resolves what the
-/// grading does not foresee (target edges leaving an end close to the source's plane). The
-/// frame has the line as the s axis, with the target's vertices on it moved exactly onto it
-/// (by at most SNAP), so points at any small d keep their position relative to the contact.
-/// None when the rules take more than LINE_BUDGET bisections.
+/// grading does not foresee (target edges leaving an end close to the source's plane). In
+/// this frame the vertices within SNAP of the line are moved onto it, so that points at any
+/// small d keep their position relative to the contact. None when the rules take more than
+/// LINE_BUDGET bisections.
 fn lambert_along_line(src: &[Vec3], n_src: Vec3, target: &[Vec3], p: Vec3, u: Vec3) -> Option<f64> {
     let v = n_src.cross(u);
     let snap = snap_distance(src, target);
