@@ -170,6 +170,22 @@ def test_needle_sharing_an_edge(method):
     assert nusselt.view_factor(a, b, method=method) == pytest.approx(want, rel=1e-10, abs=0)
 
 
+@pytest.mark.parametrize("method", EXACT)
+def test_triangles_sharing_a_vertex_cut_to_a_needle(method):
+    """Triangles sharing a vertex; b's plane cuts a to a small needle whose cut edge ends at
+    the shared vertex, beside b. The contour sum cancels by 3e5 and the adaptive triangles of
+    the area route do not converge there; contour kept its sum and was off by 7.6e-10."""
+    a = np.array([[4.530965986944644, -0.6873384792954871, -1.3870033130647197],
+                  [4.072517314624134, -0.3861694868613168, -0.6005742254338986],
+                  [4.081602080739573, -0.405004088161386, -0.6031847091763325]])
+    b = np.array([[4.081602080739573, -0.405004088161386, -0.6031847091763325],
+                  [3.916672849170847, -1.0392453835875233, 0.02305685671249913],
+                  [4.541822423903134, -1.5954745852104888, 0.017240025232403866]])
+    want = float(view_factor_mp(a, b))
+    # measured: 3.7e-13 (every method, by the line route along the cut edge)
+    assert nusselt.view_factor(a, b, method=method) == pytest.approx(want, rel=1e-11, abs=0)
+
+
 def strip_on_plate(kind, degrees, width, gap=0.0):
     """The unit plate z = 0 (facing +z) and a strip of `width` rising from it at `degrees`
     about the x axis: standing on the line y = 0.5 inside the plate ("inside"), on the

@@ -54,7 +54,7 @@ pub fn if_cancelling(pa: &[Vec3], na: Vec3, pb: &[Vec3], nb: Vec3, sum: f64, mag
             return Some(g);
         }
     }
-    let (src, n, tgt) = if da <= db { (pa, na, pb) } else { (pb, nb, pa) };
+    let (src, n, tgt, n_tgt) = if da <= db { (pa, na, pb, nb) } else { (pb, nb, pa, na) };
     // Lambert's integrand measures the target from the source's plane: for a sliver that
     // plane needs more than plain arithmetic gives (a tilt of 8e-13 moved F by 1e-8 for a
     // triangle 2e-5 wide). The clipped outline has the polygon's orientation.
@@ -62,10 +62,23 @@ pub fn if_cancelling(pa: &[Vec3], na: Vec3, pb: &[Vec3], nb: Vec3, sum: f64, mag
     let n = if exact.dot(n) > 0.0 { exact.normalize() } else { n };
     // (tested only here: outlines 45 sizes apart cannot touch)
     match contact(src, n, tgt) {
-        Contact::Points => lambert_over_area(src, n, tgt, 1e-14),
+        Contact::Points => lambert_over_area(src, n, tgt, 1e-14).or_else(|| {
+            // Triangles did not converge: a point contact at the end of the source's cut edge
+            // (it lies in the target's plane, beside the target, where Lambert's integrand is
+            // steep). The line route grades towards that edge and the contact on it.
+            let snap = snap_distance(src, tgt);
+            let in_plane = |x: Vec3| n_tgt.dot(x - tgt[0]).abs() <= snap;
+            let (p, q) = edges(src).into_iter().find(|&(p, q)| p != q && in_plane(p) && in_plane(q))?;
+            lambert_along_line(src, n, tgt, p, (q - p).normalize())
+        }),
         Contact::Line(p, u) => lambert_along_line(src, n, tgt, p, u),
         Contact::Other => None,
     }
+}
+
+/// The edges of an outline, as pairs of vertices.
+fn edges(p: &[Vec3]) -> Vec<(Vec3, Vec3)> {
+    (0..p.len()).map(|i| (p[i], p[(i + 1) % p.len()])).collect()
 }
 
 /// Gauss orders per direction compared by [`area_area`], and the relative agreement that
@@ -140,7 +153,6 @@ fn snap_distance(a: &[Vec3], b: &[Vec3]) -> f64 {
 /// source is singular (or, for a gap, nearly so) where the target's edges are.
 fn contact(src: &[Vec3], n_src: Vec3, tgt: &[Vec3]) -> Contact {
     let tol = 1e-3 * bounding_diameter(src).min(bounding_diameter(tgt));
-    let edges = |p: &[Vec3]| (0..p.len()).map(move |i| (p[i], p[(i + 1) % p.len()])).collect::<Vec<_>>();
     let off_line = |x: Vec3, p: Vec3, u: Vec3| {
         let r = x - p;
         (r - r.dot(u) * u).length()
