@@ -21,7 +21,7 @@
 //! The sum is positive for polygons whose counter-clockwise outlines face each other.
 
 use crate::error::{Error, Result};
-use crate::analytic::area_routes::if_cancelling;
+use crate::analytic::area_routes::{if_cancelling, ILL_CONDITIONED};
 use crate::geometry::{bounding_diameter, clip_pair, segment_distance, Polygon, Vec3};
 use crate::quadrature::gauss_legendre;
 use std::f64::consts::PI;
@@ -71,7 +71,7 @@ pub fn polygon_pair(a: &Polygon, b: &Polygon, nodes: usize) -> Result<f64> {
     }
     // A sum that cancels heavily (a sliver, a pair far apart) is recomputed by the
     // well-conditioned area route on the outlines as given, as in the analytic method.
-    if let Some(g) = if_cancelling(&ca, a.normal(), &cb, b.normal(), sum, mag) {
+    if let Some(g) = if_cancelling(&ca, a.normal(), &cb, b.normal(), sum, mag, ILL_CONDITIONED) {
         return Ok(g);
     }
     Ok((sum / (4.0 * PI) * scale * scale).max(0.0))

@@ -7,7 +7,7 @@
 //! in between.
 
 use crate::geometry::{clip_pair, Polygon, Vec3};
-use super::area_routes::if_cancelling;
+use super::area_routes::{if_cancelling, LINE_ILL_CONDITIONED};
 use crate::quadrature::gauss_legendre;
 use crate::special::im_li2;
 use std::sync::OnceLock;
@@ -353,7 +353,7 @@ pub fn polygon_pair(a: &Polygon, b: &Polygon) -> f64 {
     // A sum that cancels heavily (a sliver, a pair far apart) is recomputed by the
     // well-conditioned area route, on the outlines as given: a sliver's width is known to the
     // rounding of its coordinates, and the frame's shift would round it again.
-    if let Some(g) = if_cancelling(&ca, a.normal(), &cb, b.normal(), sum, mag) {
+    if let Some(g) = if_cancelling(&ca, a.normal(), &cb, b.normal(), sum, mag, LINE_ILL_CONDITIONED) {
         return g;
     }
     let v = sum / (4.0 * PI);
