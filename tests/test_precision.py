@@ -294,3 +294,14 @@ def test_point_far_from_the_polygon(d):
         want = float(point_view_factor_mp(p, n, sq))
         # measured: 6e-11 at 1e5 with the normal at 82 degrees to the line of sight
         assert nusselt.point_view_factor(p, n, sq) == pytest.approx(want, rel=1e-10, abs=0)
+
+
+@pytest.mark.parametrize("tol", [1e-6, 1e-8, 1e-10])
+@pytest.mark.parametrize("kind", ["inside", "edge"])
+@pytest.mark.parametrize("degrees", [6, 174])
+def test_auto_meets_its_tolerance_on_thin_strips(tol, kind, degrees):
+    """auto keeps a touching pair's contour sum while its expected rounding stays below
+    `tol` (cheaper by milliseconds a pair); the result must still meet `tol`."""
+    plate, strip = strip_on_plate(kind, degrees, 1e-6)
+    want = strip_reference(kind, degrees)
+    assert nusselt.view_factor(plate, strip, method="auto", tol=tol) == pytest.approx(want, rel=tol, abs=0)

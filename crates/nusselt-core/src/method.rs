@@ -162,16 +162,16 @@ pub fn area_factor_facing(
 pub fn auto_pair(a: &Polygon, b: &Polygon, f: Facing, plan: &FarPlan, regular: bool, cache: Option<(&RuleCache, usize, usize)>) -> f64 {
     match f {
         Facing::None => 0.0,
-        Facing::Partial => analytic::polygon_pair(a, b),
+        Facing::Partial => analytic::polygon_pair_within(a, b, plan.tol()),
         Facing::Full => {
             let (d, rsum) = (b.centroid() - a.centroid(), a.radius() + b.radius());
-            full_facing_pair(a, b, plan.rule_sq(d.dot(d), rsum * rsum, regular), cache)
+            full_facing_pair(a, b, plan.rule_sq(d.dot(d), rsum * rsum, regular), plan.tol(), cache)
         }
     }
 }
 
-/// A_a F_ab of a fully facing, unobstructed pair by `rule` (from a [`FarPlan`]).
-pub fn full_facing_pair(a: &Polygon, b: &Polygon, rule: FarRule, cache: Option<(&RuleCache, usize, usize)>) -> f64 {
+/// A_a F_ab of a fully facing, unobstructed pair by `rule` (from a [`FarPlan`] for `tol`).
+pub fn full_facing_pair(a: &Polygon, b: &Polygon, rule: FarRule, tol: f64, cache: Option<(&RuleCache, usize, usize)>) -> f64 {
     match rule {
         FarRule::Gauss(order) if order <= MAX_AUTO_ORDER => match cache {
             Some((c, ia, ib)) => quadrature::far_pair(c.get(ia, a, order), a.normal(), c.get(ib, b, order), b.normal()),
@@ -189,7 +189,7 @@ pub fn full_facing_pair(a: &Polygon, b: &Polygon, rule: FarRule, cache: Option<(
                 None => pair(&Moments::new(a), &Moments::new(b)),
             }
         }
-        FarRule::Gauss(_) | FarRule::Exact => analytic::polygon_pair(a, b),
+        FarRule::Gauss(_) | FarRule::Exact => analytic::polygon_pair_within(a, b, tol),
     }
 }
 

@@ -211,7 +211,7 @@ const LINE_BUDGET: usize = 40_000;
 /// the higher order's error is a small part of the difference (measured on strips, tubes and
 /// slivers against 40-digit references: at most 5e-13 relative at this agreement; 5e-11 at
 /// 1e-9, where convergence is slower than 3^-2n).
-const LINE_CHECK: (usize, usize) = (8, 12);
+const LINE_CHECK: (usize, usize) = (10, 14);
 const LINE_AGREE: f64 = 1e-10;
 /// Relative tolerance of each piece (to the integral it belongs to); up to ~100 pieces add up.
 const LINE_TOL: f64 = 1e-14;

@@ -7,4 +7,4 @@ pub mod area_routes;
 pub mod polygon_pair;
 
 pub use lambert::{point_contour, point_polygon};
-pub use polygon_pair::{edge_pair_log_integral, polygon_pair};
+pub use polygon_pair::{edge_pair_log_integral, polygon_pair, polygon_pair_within};

@@ -331,6 +331,19 @@ fn single_line(p0: Vec3, la: f64, u: Vec3, q0: Vec3, q1: Vec3, v: Vec3, s_star: 
 /// other the contour sum is positive (checked against Howell C-11 in the tests), so
 /// A_a F_ab = sum / (4 pi). Roundoff-level negatives are clamped to 0.
 pub fn polygon_pair(a: &Polygon, b: &Polygon) -> f64 {
+    polygon_pair_within(a, b, 0.0)
+}
+
+/// Rounding of an analytic sum of a pair in line contact, per unit of its cancellation: the
+/// worst measured against 40-digit references (tube panels, strips, slivers).
+const SUM_ERROR_PER_CANCELLATION: f64 = 1.4e-14;
+
+/// [`polygon_pair`] for a caller content with relative accuracy `tol` (auto's target): a pair
+/// in line contact keeps its sum while its expected rounding (SUM_ERROR_PER_CANCELLATION times
+/// the cancellation) stays below `tol`, and below what LINE_ILL_CONDITIONED allows, instead
+/// of paying milliseconds for the line route.
+pub fn polygon_pair_within(a: &Polygon, b: &Polygon, tol: f64) -> f64 {
+    let line_threshold = LINE_ILL_CONDITIONED.max(tol / SUM_ERROR_PER_CANCELLATION);
     let Some((ca, cb)) = clip_pair(a, b) else {
         return 0.0;
     };
@@ -353,7 +366,7 @@ pub fn polygon_pair(a: &Polygon, b: &Polygon) -> f64 {
     // A sum that cancels heavily (a sliver, a pair far apart) is recomputed by the
     // well-conditioned area route, on the outlines as given: a sliver's width is known to the
     // rounding of its coordinates, and the frame's shift would round it again.
-    if let Some(g) = if_cancelling(&ca, a.normal(), &cb, b.normal(), sum, mag, LINE_ILL_CONDITIONED) {
+    if let Some(g) = if_cancelling(&ca, a.normal(), &cb, b.normal(), sum, mag, line_threshold) {
         return g;
     }
     let v = sum / (4.0 * PI);
