@@ -208,9 +208,10 @@ const LINE_ORDER: usize = 8;
 const LINE_BUDGET: usize = 40_000;
 /// Orders compared on the starting pieces before any adaptive rule, and the agreement that
 /// accepts the higher: a piece 3x its distance from a singularity converges like 3^-2n, so
-/// the higher order's error is a small part of the difference (measured on strips, tubes and
-/// slivers against 40-digit references: at most 5e-13 relative at this agreement; 5e-11 at
-/// 1e-9, where convergence is slower than 3^-2n).
+/// the higher order's error is a small part of the difference. Measured on strips, tubes and
+/// slivers against 40-digit references: orders (10, 14) at most 1e-13 relative; (8, 12) 5e-13,
+/// and 5e-11 at an agreement of 1e-9, where convergence is slower than 3^-2n. (10, 14) also
+/// falls back to the adaptive rules less often: a 256-panel tube took 4.9 s instead of 9.6 s.
 const LINE_CHECK: (usize, usize) = (10, 14);
 const LINE_AGREE: f64 = 1e-10;
 /// Relative tolerance of each piece (to the integral it belongs to); up to ~100 pieces add up.
