@@ -892,14 +892,14 @@ impl FarPlan {
         self.regular.moment4_sq
     }
 
-    /// [`FarPlan::rule`] from the squared centroid distance and the squared radius sum (no
-    /// square root: scene loops call this for every pair).
-    #[inline]
     /// The relative accuracy target the plan was made for.
     pub fn tol(&self) -> f64 {
         self.tol
     }
 
+    /// [`FarPlan::rule`] from the squared centroid distance and the squared radius sum (no
+    /// square root: scene loops call this for every pair).
+    #[inline]
     pub fn rule_sq(&self, dist_sq: f64, radii_sq: f64, regular: bool) -> FarRule {
         if regular { self.regular.rule(dist_sq, radii_sq) } else { self.general.rule(dist_sq, radii_sq) }
     }

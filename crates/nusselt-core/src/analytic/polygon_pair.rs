@@ -7,7 +7,7 @@
 //! in between.
 
 use crate::geometry::{clip_pair, Polygon, Vec3};
-use super::area_routes::{if_cancelling, LINE_ILL_CONDITIONED};
+use super::area_routes::{analytic_line_threshold, if_cancelling};
 use crate::quadrature::gauss_legendre;
 use crate::special::im_li2;
 use std::sync::OnceLock;
@@ -334,16 +334,11 @@ pub fn polygon_pair(a: &Polygon, b: &Polygon) -> f64 {
     polygon_pair_within(a, b, 0.0)
 }
 
-/// Rounding of an analytic sum of a pair in line contact, per unit of its cancellation: the
-/// worst measured against 40-digit references (tube panels, strips, slivers).
-const SUM_ERROR_PER_CANCELLATION: f64 = 1.4e-14;
-
 /// [`polygon_pair`] for a caller content with relative accuracy `tol` (auto's target): a pair
-/// in line contact keeps its sum while its expected rounding (SUM_ERROR_PER_CANCELLATION times
-/// the cancellation) stays below `tol`, and below what LINE_ILL_CONDITIONED allows, instead
-/// of paying milliseconds for the line route.
+/// in line contact keeps its sum while its expected rounding stays below `tol`
+/// ([`analytic_line_threshold`]) instead of paying milliseconds for the line route.
 pub fn polygon_pair_within(a: &Polygon, b: &Polygon, tol: f64) -> f64 {
-    let line_threshold = LINE_ILL_CONDITIONED.max(tol / SUM_ERROR_PER_CANCELLATION);
+    let line_threshold = analytic_line_threshold(tol);
     let Some((ca, cb)) = clip_pair(a, b) else {
         return 0.0;
     };
