@@ -1,7 +1,7 @@
 """Random polygon pairs in general position, and 40-digit references for view factors.
 
 The reference is independent of nusselt's arithmetic: mpmath clips each polygon to the other's
-front half-space and evaluates the double contour integral (algorithms.md 1.2)
+front half-space and evaluates the double contour integral (docs/algorithms.md §1.2)
 
     A_a F_ab = (1/4 pi) sum_{edges p of a, q of b} (d_p . d_q) int_0^1 int_0^1 ln |x_p(s) - y_q(t)|^2 dt ds
 

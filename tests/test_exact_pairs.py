@@ -8,7 +8,7 @@ import nusselt
 
 EXACT = ["auto", "analytic", "contour"]
 
-# reference-cases.md: two aligned X x X squares, gap 1
+# docs/algorithms.md §8: two aligned X x X squares, gap 1
 PARALLEL = {
     0.1: 0.003162056838754, 0.2: 0.012403977313243, 0.4: 0.046137416744875, 0.6: 0.093362337840650,
     1: 0.199824895698387, 2: 0.415253283577147, 4: 0.632036430013860, 10: 0.826994522397256,
@@ -104,7 +104,7 @@ def test_perpendicular_with_gap(method, yz):
 
 @pytest.mark.parametrize("method", EXACT)
 def test_piercing_pair_is_clipped(method):
-    # algorithms.md 1.4: the receiver cuts the emitter's plane; without clipping F would be 0
+    # docs/algorithms.md §1.4: the receiver cuts the emitter's plane; without clipping F would be 0
     a = rect(0, 1, 0, 1)
     b = np.array([[0.5, 0, -0.5], [0.5, 0, 0.5], [0.5, 1, 0.5], [0.5, 1, -0.5]], float)  # normal -x
     # by additivity: the part of a at x < 0.5 sees the upper half of b as perpendicular
@@ -127,12 +127,12 @@ def PERP_SHARED_05():
 
 
 def test_c14_formula_matches_table():
-    assert 0.5 * PERP_SHARED_05() == pytest.approx(0.120318, abs=1e-6)  # algorithms.md 1.4 table
+    assert 0.5 * PERP_SHARED_05() == pytest.approx(0.120318, abs=1e-6)  # docs/algorithms.md §1.4 table
 
 
 @pytest.mark.parametrize("method", EXACT)
 def test_triangles_sharing_a_vertex(method):
-    # algorithms.md 4.2: Duffy quadrature with Richardson extrapolation gives 0.11291816(18)
+    # docs/algorithms.md §4.2: Duffy quadrature with Richardson extrapolation gives 0.11291816(18)
     a = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0]], float)
     b = np.array([[0, 0, 0], [0, 1, 1], [1, 0, 1]], float)
     if np.cross(b[1] - b[0], b[2] - b[0]) @ np.array([0, 0, 1.0]) > 0:
@@ -241,7 +241,7 @@ def lambert_corner(a, b, c):
 
 @pytest.mark.parametrize("method", EXACT)
 def test_point_to_square(method):
-    # algorithms.md 1.3: 4 x corner formula = 0.239456 for a unit square at distance 1
+    # docs/algorithms.md §1.3: 4 x corner formula = 0.239456 for a unit square at distance 1
     sq = rect(-0.5, 0.5, -0.5, 0.5, z=1, flip=True)
     f = nusselt.point_view_factor([0, 0, 0], [0, 0, 1], sq, method=method)
     assert f == pytest.approx(4 * lambert_corner(0.5, 0.5, 1), rel=1e-12, abs=0)

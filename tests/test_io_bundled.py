@@ -1,5 +1,5 @@
 """The bundled Cornell boxes (python/nusselt/data) against the published geometry
-(algorithms.md 8.4: Cornell Program of Computer Graphics, "Cornell Box Data")."""
+(docs/algorithms.md §8.4: Cornell Program of Computer Graphics, "Cornell Box Data")."""
 
 import pathlib
 

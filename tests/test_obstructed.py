@@ -39,7 +39,7 @@ def blocked_plates_point(x, y):
 @pytest.fixture(scope="module")
 def blocked_plates_exact():
     val, err = dblquad(lambda y, x: blocked_plates_point(x, y), 0, 1, 0, 1, epsabs=1e-12, epsrel=1e-11)
-    assert val == pytest.approx(0.099506294598985, abs=1e-10)  # reference-cases.md agrees
+    assert val == pytest.approx(0.099506294598985, abs=1e-10)  # docs/algorithms.md §8 agrees
     return val
 
 
@@ -202,7 +202,7 @@ def test_partition_between_plates(x, reach):
     # exchange into the two halves facing each other: F = x F(x by 1) + (1 - x) F(1 - x by 1).
     # The visibility steps along the partition's plane on both plates: a plain Gauss rule
     # over each plate resolved it to 5e-3 only.
-    assert aligned_plates(1, 1, 1) == pytest.approx(0.199824895698387, abs=1e-14)  # reference-cases.md
+    assert aligned_plates(1, 1, 1) == pytest.approx(0.199824895698387, abs=1e-14)  # docs/algorithms.md §8
     exact = x * aligned_plates(x, 1, 1) + (1 - x) * aligned_plates(1 - x, 1, 1)
     z0, z1 = (0.0, 1.0) if reach == "spanning" else (-0.2, 1.3)
     wall = np.array([[x, -0.5, z0], [x, 1.5, z0], [x, 1.5, z1], [x, -0.5, z1]])
@@ -253,7 +253,7 @@ def uv_sphere(radius, nu, nv, centre):
 
 @pytest.mark.parametrize("r1,r2", [(0.125, 0.25), (0.25, 0.5)])
 def test_blocked_cylinder_identity(r1, r2):
-    # reference-cases.md "blocked cylinder": what leaves the inner prism's walls either hits
+    # docs/algorithms.md §8 "blocked cylinder": what leaves the inner prism's walls either hits
     # the open outer prism or escapes through its ends to the enclosing sphere, so
     # F(inner -> sphere, blocked by the outer walls) = 1 - F(inner -> outer) exactly, for the
     # faceted geometry too. Every sphere facet pair is partly hidden by up to 8 walls.

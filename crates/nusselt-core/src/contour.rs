@@ -2,12 +2,12 @@
 //!
 //!   A_a F_ab = (1/4π) Σ_{i ∈ ∂a} Σ_{j ∈ ∂b} (d_i·d_j) ∫_0^{L_i} ∫_0^{L_j} ln |x_i(t) - x_j(s)|² ds dt
 //!
-//! (Schröder & Hanrahan TR CS-TR-404-93 eq. 3; algorithms.md §1.2), evaluated after clipping
+//! (Schröder & Hanrahan TR CS-TR-404-93 eq. 3; docs/algorithms.md §1.2), evaluated after clipping
 //! each polygon to the other's front half-space (§1.4). Per edge pair:
 //!
 //! * the inner integral over edge j is exact (Mitalas & Stephenson, as in View3D `V1LIpart`):
 //!   ∫_j ln|P - y|² dy = [u ln(u² + d²) - 2u + 2d atan(u/d)]_{u0}^{u1}, with d the distance
-//!   of P from the line of edge j and u the coordinate along it (algorithms.md §4.3);
+//!   of P from the line of edge j and u the coordinate along it (docs/algorithms.md §4.3);
 //! * the outer integral over edge i is Gauss-Legendre on panels bisected until each panel is
 //!   shorter than its distance to the nearest complex singularity of that inner integral
 //!   (the projections of edge j's end points and the line-line pinch), i.e. panels graded
@@ -349,7 +349,7 @@ mod tests {
         }
     }
 
-    /// Howell C-11 closed form (algorithms.md §8.2 row 6), used to confirm the table.
+    /// Howell C-11 closed form (docs/algorithms.md §8.2 row 6), used to confirm the table.
     fn c11(a: f64, b: f64, c: f64) -> f64 {
         let (x, y) = (a / c, b / c);
         let (x1, y1) = ((1.0 + x * x).sqrt(), (1.0 + y * y).sqrt());
@@ -384,7 +384,7 @@ mod tests {
         }
     }
 
-    /// Perpendicular rectangles in aligned position (algorithms.md §8.2 row 9, Howell
+    /// Perpendicular rectangles in aligned position (docs/algorithms.md §8.2 row 9, Howell
     /// section C): A1 = [x1,x2]x[y1,y2] at z = 0, A2 at x = 0 with y in [η1,η2], z in [ξ1,ξ2].
     fn perp_general(x: [f64; 2], y: [f64; 2], eta: [f64; 2], xi: [f64; 2]) -> f64 {
         let g = |x: f64, y: f64, e: f64, k: f64| {
@@ -409,7 +409,7 @@ mod tests {
         s / ((x[1] - x[0]) * (y[1] - y[0]))
     }
 
-    /// Parallel rectangles in aligned position (algorithms.md §8.2 row 8).
+    /// Parallel rectangles in aligned position (docs/algorithms.md §8.2 row 8).
     fn parallel_general(x: [f64; 2], y: [f64; 2], xi: [f64; 2], eta: [f64; 2], z: f64) -> f64 {
         let g = |x: f64, y: f64, e: f64, k: f64| {
             let (dx, dy) = (x - k, y - e);
@@ -459,7 +459,7 @@ mod tests {
         assert!(rel(f(&a, &b), e9) < 1e-9, "{} vs {e9}", f(&a, &b));
     }
 
-    /// algorithms.md §1.4: a receiver that pierces the emitter's plane (clipping needed).
+    /// docs/algorithms.md §1.4: a receiver that pierces the emitter's plane (clipping needed).
     #[test]
     fn piercing_pair_is_clipped() {
         let a = rect_z(0., 1., 0., 1., 0., true);
@@ -507,7 +507,7 @@ mod tests {
     }
 
     /// Unit squares on perpendicular faces of a cube that share only a corner (where a fixed
-    /// order line integral can converge falsely, reference-cases.md): against the row-9
+    /// order line integral can converge falsely, docs/algorithms.md §8): against the row-9
     /// closed form, and additivity of the 2x2-subdivided face.
     #[test]
     fn corner_touching_cube_patches() {

@@ -1,6 +1,6 @@
 //! Planar polygons: validation, derived quantities, half-space clipping, triangulation.
 //!
-//! Conventions (design.md): a polygon is a list of n >= 3 vertices, counter-clockwise seen
+//! Conventions: a polygon is a list of n >= 3 vertices, counter-clockwise seen
 //! from its front; the normal follows the right-hand rule. Every tolerance is relative to
 //! the polygon's own size, so the same polygon in metres and millimetres behaves the same.
 
@@ -638,7 +638,7 @@ mod tests {
 
     #[test]
     fn clip_pair_piercing() {
-        // algorithms.md 1.4: A2 in x = 0.5 cuts A1's plane; after clipping A2 keeps z >= 0,
+        // docs/algorithms.md §1.4: A2 in x = 0.5 cuts A1's plane; after clipping A2 keeps z >= 0,
         // A1 keeps x <= 0.5 (the side A2 faces).
         let a = Polygon::new(sq(1.0)).unwrap();
         let b = Polygon::new(vec![

@@ -2,7 +2,7 @@
 //! double area integral A_a F_ab = ∫_a ∫_b cos θ_a cos θ_b / (π r²) dA_b dA_a.
 //!
 //! Tensor Gauss rules converge exponentially for separated pairs and only algebraically for
-//! touching ones (algorithms.md §7.2), so [`far_field_order`] picks an order from the relative
+//! touching ones (docs/algorithms.md §7.2), so [`far_field_order`] picks an order from the relative
 //! separation and returns `None` when the pair is too close: the caller then uses an exact
 //! kernel (contour or analytic).
 
@@ -1436,7 +1436,7 @@ pub(crate) mod tests {
         Polygon::new(v).unwrap()
     }
 
-    /// Howell C-11, parallel directly opposed unit squares at distance 1 (reference-cases.md).
+    /// Howell C-11, parallel directly opposed unit squares at distance 1 (docs/algorithms.md §8).
     #[test]
     fn area_area_matches_c11() {
         let exact = 0.199824895698387;

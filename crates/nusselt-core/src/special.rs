@@ -1,5 +1,5 @@
 //! Special functions for the exact kernels: the Clausen function Cl2 and Im Li2 of a complex
-//! argument (the dilogarithm terms of Narayanaswamy's edge-pair formula, algorithms.md 4.2).
+//! argument (the dilogarithm terms of Narayanaswamy's edge-pair formula, docs/algorithms.md §4.2).
 
 use std::f64::consts::{LN_2, PI, TAU};
 
@@ -106,7 +106,7 @@ pub fn clausen2(theta: f64) -> f64 {
 /// Im Li2(r e^{i theta}) for r >= 0 and any real theta (the imaginary part of the
 /// dilogarithm; on the cut theta = 0, r > 1 it returns the limit from above, pi ln r).
 ///
-/// Kummer's formula via Clausen functions (Lewin 1981, eq. 5.4; algorithms.md 4.2 item 5):
+/// Kummer's formula via Clausen functions (Lewin 1981, eq. 5.4; docs/algorithms.md §4.2 item 5):
 ///   Im Li2(r e^{i theta}) = omega ln r + (Cl2(2 theta) + Cl2(2 omega) - Cl2(2 omega + 2 theta)) / 2,
 ///   omega = atan2(r sin theta, 1 - r cos theta).
 /// For r <= 1/4 the power series sum_k r^k sin(k theta)/k^2 is used instead (relative

@@ -1,7 +1,7 @@
 //! Well-conditioned area routes for pairs whose double contour sum cancels heavily (a polygon
 //! clipped to a sliver, or a pair far apart compared with its size). The contour sum adds
 //! edge-pair terms of the size of the edges' product that cancel down to the pair's G, so its
-//! rounding is relative to the terms, not to G (algorithms.md 1.2). The routes add terms of
+//! rounding is relative to the terms, not to G (docs/algorithms.md §1.2). The routes add terms of
 //! one sign instead:
 //!
 //! * far apart: the double area integral of cos cos / (pi r^2) by tensor Gauss, accepted when

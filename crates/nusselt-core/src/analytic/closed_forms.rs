@@ -1,4 +1,4 @@
-//! Named closed-form view factors (algorithms.md 8.2; Howell, *A Catalog of Radiation Heat
+//! Named closed-form view factors (docs/algorithms.md §8.2; Howell, *A Catalog of Radiation Heat
 //! Transfer Configuration Factors*, 3rd ed.). Each is checked in the tests against a
 //! numerical integration written there. Every length must be finite and positive (offsets and
 //! coordinates finite); otherwise the result is `Err(Error::InvalidArgument)`.
@@ -33,7 +33,7 @@ fn interval(lo_name: &str, lo: f64, hi_name: &str, hi: f64) -> Result<()> {
 }
 
 /// Differential area parallel to a coaxial disc of radius `r` at distance `h` (facing it):
-/// F = r^2 / (h^2 + r^2). (algorithms.md 1.3 and 8.2 row 1.)
+/// F = r^2 / (h^2 + r^2). (docs/algorithms.md §1.3 and 8.2 row 1.)
 pub fn disk_coaxial(h: f64, r: f64) -> Result<f64> {
     let (h, r) = (positive("h", h)?, positive("r", r)?);
     Ok(r * r / (h * h + r * r))

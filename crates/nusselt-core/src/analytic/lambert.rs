@@ -1,4 +1,4 @@
-//! Differential area to polygon: Lambert's closed form (algorithms.md 1.3).
+//! Differential area to polygon: Lambert's closed form (docs/algorithms.md §1.3).
 
 use super::area_routes::point_over_area;
 use crate::geometry::{bounding_diameter, clip_to_halfspace, newell_normal, Vec3, COINCIDENT_TOL};
@@ -7,7 +7,7 @@ use std::f64::consts::TAU;
 /// F from a differential area at `p` with unit normal `n` to the polygon `poly` (vertices
 /// counter-clockwise about its front normal). Only the polygon's front side receives: 0 when
 /// p lies behind or in the polygon's plane. The polygon is first clipped to the half-space
-/// n.(x - p) >= 0 (without clipping the contour formula is wrong, algorithms.md 1.4), then
+/// n.(x - p) >= 0 (without clipping the contour formula is wrong, docs/algorithms.md §1.4), then
 /// [`point_contour`] is evaluated on the remainder. NaN for non-finite input or n = 0.
 pub fn point_polygon(p: Vec3, n: Vec3, poly: &[Vec3]) -> f64 {
     if !p.is_finite() || !n.is_finite() || n == Vec3::ZERO || poly.iter().any(|v| !v.is_finite()) {

@@ -1,5 +1,5 @@
-//! Exact polygon-to-polygon view factor by the double contour integral (algorithms.md 1.2),
-//! each edge pair in closed form (Narayanaswamy 2015, algorithms.md 4.2).
+//! Exact polygon-to-polygon view factor by the double contour integral (docs/algorithms.md §1.2),
+//! each edge pair in closed form (Narayanaswamy 2015, docs/algorithms.md §4.2).
 //!
 //!   A_a F_ab = (1/4 pi) sum_{edges i of a, j of b} (d_i . d_j) int_i int_j ln |x - y|^2
 //!
@@ -44,7 +44,7 @@ const MIN_LINE_NODES: usize = 4;
 /// lines, D their distance and alpha the angle between the edges:
 ///   Q(s, l) = s^2 + l^2 - 2 s l cos(alpha) + D^2 = |x - y|^2,
 /// and with an antiderivative F (d^2F/ds dl = ln Q) the integral is the four-corner sum
-/// cos(alpha) [F]_{s_i..s_j, l_p..l_q}. Narayanaswamy's f (algorithms.md 4.2) satisfies
+/// cos(alpha) [F]_{s_i..s_j, l_p..l_q}. Narayanaswamy's f (docs/algorithms.md §4.2) satisfies
 /// d^2 f/ds dl = -(ln Q + 2) (checked numerically), so here F = -f - 2 s l:
 ///   F = (s l - cos(alpha)(s^2+l^2)/2) ln Q - s h_s atan2(h_s, l - s cos) - l h_l atan2(h_l, s - l cos)
 ///       - 3 s l - (D^2 / (2 sin)) [ImLi2(w_s/p_l, alpha) + ImLi2(p_l/w_s, alpha)
@@ -56,7 +56,7 @@ const MIN_LINE_NODES: usize = 4;
 ///   f_par = ((s-l)^2 - D^2)/2 ln((s-l)^2 + D^2) - 2 (s-l) D acos((s-l)/sqrt((s-l)^2+D^2)) + s l.
 /// When O_s, O_l are far from the edges (nearly parallel lines, or far-apart edges), the corner
 /// terms grow like X^2 and cancel; those pairs use the single-line form instead: the inner
-/// integral in closed form (Mitalas & Stephenson; View3D `V1LIpart`, algorithms.md 4.3),
+/// integral in closed form (Mitalas & Stephenson; View3D `V1LIpart`, docs/algorithms.md §4.3),
 ///   int ln |x - y|^2 dtau = [m ln(m^2 + g^2) - 2m + 2g atan(m/g)]_{m0}^{m1},
 /// m_k = (q_k - x).v, g = |(x - q0) x v|, and the outer integral by Gauss-Legendre panels
 /// bisected until every complex singularity of the integrand (x(t) meeting an endpoint of the
@@ -323,7 +323,7 @@ fn single_line(p0: Vec3, la: f64, u: Vec3, q0: Vec3, q1: Vec3, v: Vec3, s_star: 
 }
 
 /// A_a F_ab (= A_b F_ba) for two polygons with nothing in between, exact: the double contour
-/// integral (algorithms.md 1.2) over the parts of each polygon in front of the other
+/// integral (docs/algorithms.md §1.2) over the parts of each polygon in front of the other
 /// (`geometry::clip_pair`; 0 when they exchange nothing), summed over all edge pairs with
 /// [`edge_pair_log_integral`]. Coordinates are shifted to a's centroid and divided by the pair's
 /// size before summing (limits cancellation; exact scale invariance), and the result is
@@ -559,7 +559,7 @@ mod tests {
     #[test]
     fn touching_and_degenerate_edge_pairs() {
         // Identical reversed edges (shared edge of consistently oriented neighbours):
-        // int int ln r^2 = L^2 (ln L^2 - 3) (View3D V1LIxact, algorithms.md 4.3), times u.v = -1.
+        // int int ln r^2 = L^2 (ln L^2 - 3) (View3D V1LIxact, docs/algorithms.md §4.3), times u.v = -1.
         for l in [1e-3, 0.7, 1.0, 5.0, 1e4] {
             let (a, b) = (Vec3::new(0.1, 0.2, 0.3), Vec3::new(0.1, 0.2, 0.3) + Vec3::new(0.6, -0.8, 0.0) * l);
             let got = edge_pair_log_integral(a, b, b, a);
@@ -646,7 +646,7 @@ mod tests {
     #[test]
     fn reference_tables() {
         let mut worst: f64 = 0.0;
-        // reference-cases.md: parallel plates (X x X squares, gap 1).
+        // docs/algorithms.md §8: parallel plates (X x X squares, gap 1).
         let plates = [
             (0.1, 0.003162056838754),
             (0.2, 0.012403977313243),
@@ -724,7 +724,7 @@ mod tests {
         let want = cf::perpendicular_rectangles_general(0.3, 1.3, 0.0, 2.0, 0.5, 1.5, 0.2, 1.0).unwrap();
         assert!(rel(f_ab(&a, &b), want) < 1e-12);
         assert!((f_ab(&a, &b) - 0.072571586221).abs() < 1e-12);
-        // algorithms.md 1.4: A2 in x = 0.5 (facing -x) pierces A1's plane. Only x <= 0.5 of
+        // docs/algorithms.md §1.4: A2 in x = 0.5 (facing -x) pierces A1's plane. Only x <= 0.5 of
         // A1 and z >= 0 of A2 exchange: by mirroring, half of the row-9 form on [0,0.5]x[0,1].
         let a = rect(Vec3::ZERO, Vec3::X, Vec3::Y);
         let b = rect(Vec3::new(0.5, 0.0, -0.5), Vec3::Z, Vec3::Y);

@@ -5,7 +5,7 @@
 //! cells over [-1,1] x [0,1]. Every other polygon is clipped to the element's front
 //! half-space and to each face's near plane, projected onto the face and scan-converted with
 //! cell-centre sampling into a z-buffer and an item buffer. A cell's delta form factor is the
-//! exact integral of the cosine kernel over the cell (algorithms.md 2.2):
+//! exact integral of the cosine kernel over the cell (docs/algorithms.md §2.2):
 //!
 //!   top,  [x0,x1]x[y0,y1]: dF = Phi(x1,y1) - Phi(x0,y1) - Phi(x1,y0) + Phi(x0,y0),
 //!     Phi(x,y) = (1/2pi)[x/sqrt(1+x^2) atan(y/sqrt(1+x^2)) + y/sqrt(1+y^2) atan(x/sqrt(1+y^2))],
@@ -19,7 +19,7 @@
 //! face coordinates and h = m . X0 < 0 for a front face), so it is evaluated exactly at every
 //! cell centre; larger w is nearer.
 //!
-//! Error (algorithms.md 2.4): aliasing of projected polygons (about 1-3 % per pair once a
+//! Error (docs/algorithms.md §2.4): aliasing of projected polygons (about 1-3 % per pair once a
 //! receiver covers 10 x 10 cells), proximity (the centre is not the patch: use several source
 //! points), and partial visibility. Random rotation about the normal per sample point turns
 //! the structured aliasing into noise that averages out over points and patches.
@@ -480,7 +480,7 @@ mod tests {
         let fp = hemicube_row(&par, &[true, true], 0, &o).unwrap().get(1);
         let fq = hemicube_row(&per, &[true, true], 0, &o).unwrap().get(1);
         assert!((fp - ep).abs() < 3e-4 && (fq - eq).abs() < 3e-4, "{fp} {fq}");
-        // centre only: the proximity error of algorithms.md 2.4 (+20 % at d = side)
+        // centre only: the proximity error of docs/algorithms.md §2.4 (+20 % at d = side)
         let o = HemicubeOptions { resolution: 256, source: SourcePoints::Centre, random_rotation: false, ..Default::default() };
         let fc = hemicube_row(&par, &[true, true], 0, &o).unwrap().get(1);
         assert!((fc - 4.0 * corner_rect(0.5, 0.5)).abs() < 3e-3, "{fc}");

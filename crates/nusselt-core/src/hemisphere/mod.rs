@@ -2,7 +2,7 @@
 //!
 //! Every method here looks out from points on patch i and attributes each piece of the
 //! hemisphere to the first patch seen there, so one pass yields F_ij for all j at once
-//! (algorithms.md 1.1: F_{dA -> A_j} = projected solid angle of the visible part of A_j / pi,
+//! (docs/algorithms.md §1.1: F_{dA -> A_j} = projected solid angle of the visible part of A_j / pi,
 //! and F_ij is its area average over A_i):
 //!
 //! * [`hemicube_row`]: five z-buffered faces with exact cell integrals (Cohen & Greenberg 1985),
@@ -60,7 +60,7 @@ impl RowResult {
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum SourcePoints {
     /// The area centroid only: F_ij ~ F_{dA_centre -> A_j}. Fine for patches small compared
-    /// with their distance to others (about 1 % beyond five patch sizes, algorithms.md 2.4).
+    /// with their distance to others (about 1 % beyond five patch sizes, docs/algorithms.md §2.4).
     Centre,
     /// n area-uniform points, the first n of an Owen-scrambled Sobol (0,2)-sequence mapped
     /// onto the patch (stratified: use a power of two), equal weights 1/n. 1 <= n <= 4096.

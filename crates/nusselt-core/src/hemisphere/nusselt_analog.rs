@@ -1,4 +1,4 @@
-//! The Nusselt analogue as a method (algorithms.md 1.1).
+//! The Nusselt analogue as a method (docs/algorithms.md §1.1).
 //!
 //! Project the scene onto the unit hemisphere over a source point, then orthographically onto
 //! the base disk: F_{dA -> A_j} is the disk area covered by A_j's visible part divided by pi.

@@ -1,4 +1,4 @@
-//! Cosine-distributed ray casting (the reverse Nusselt analogy, algorithms.md 5.1).
+//! Cosine-distributed ray casting (the reverse Nusselt analogy, docs/algorithms.md §5.1).
 //!
 //! With x uniform on A_i (pdf 1/A_i) and a direction of pdf cos(theta)/pi about n_i, the
 //! indicator that the first hit is the front of A_j has expectation F_ij. So with N rays
@@ -7,7 +7,7 @@
 //! Points: the 4-D Owen-scrambled Sobol sequence (Burley 2020), dims 0-1 -> direction by the
 //! concentric map and Malley's lift, dims 2-3 -> point on the patch; the seed is hashed with
 //! the row index so rows are decorrelated. Scrambled QMC keeps the estimator unbiased and
-//! converges like about N^-0.7 for visibility-type integrands (algorithms.md 5.3).
+//! converges like about N^-0.7 for visibility-type integrands (docs/algorithms.md §5.3).
 //!
 //! Standard error: sqrt(F(1 - F)/N) is the binomial (independent-ray) value. For scrambled
 //! Sobol points the true error is usually smaller, so this is a conservative bound, not an

@@ -1,12 +1,12 @@
 //! Single-plane method (Sillion & Puech, SIGGRAPH '89) with Warnock area subdivision.
 //!
 //! One plane parallel to the element at height 1 over the sample point, restricted to the
-//! window [-a, a]^2, replaces the hemicube (algorithms.md 3). Polygons are clipped to z >= near
+//! window [-a, a]^2, replaces the hemicube (docs/algorithms.md §3). Polygons are clipped to z >= near
 //! and projected through the eye onto the plane; projection preserves the projected solid
 //! angle, so the form factor of any region of the plane is that of its preimage. A region's
 //! form factor is exact: for a rectangle the Phi four-term difference (see
 //! [`super::hemicube::top_cell`]), for a polygon P of the plane Lambert's formula
-//! (algorithms.md 1.3) with vertices R_k = (x_k, y_k, 1):
+//! (docs/algorithms.md §1.3) with vertices R_k = (x_k, y_k, 1):
 //!
 //!   F = (1/2pi) |sum_k atan2(|R_k x R_k+1|, R_k . R_k+1) (z . (R_k x R_k+1)) / |R_k x R_k+1||.
 //!
@@ -446,7 +446,7 @@ mod tests {
             rev.reverse();
             assert!((lambert_on_plane(&rev) - l).abs() < 1e-15);
         }
-        // captured fraction table of algorithms.md 3.1
+        // captured fraction table of docs/algorithms.md §3.1
         for (a, f) in [(1.0, 0.5541), (5.0, 0.9683), (10.0, 0.99189), (14.0, 0.99584)] {
             let o = SinglePlaneOptions { half_width: a, ..Default::default() };
             let s = a / (1.0 + a * a).sqrt();

@@ -1,5 +1,5 @@
 //! The exact part of a polygon visible from a point, by shadow projection (the View3D /
-//! Walton pattern, algorithms.md 6.3; Walton, NISTIR 6925, `viewobs.c` `ViewObstructed`).
+//! Walton pattern, docs/algorithms.md §6.3; Walton, NISTIR 6925, `viewobs.c` `ViewObstructed`).
 //!
 //! From a point p (with the normal n of its surface element), each blocker is clipped to the
 //! region where it can hide part of the receiver, projected centrally from p onto the
@@ -9,7 +9,7 @@
 //! partial obstruction (holes, oriented clockwise, subtract).
 //!
 //! Blockers are opaque from both sides, whichever way they face (View3D ignores blockers that
-//! face the wrong way; reference-cases.md). Every tolerance is relative to the geometry.
+//! face the wrong way; docs/algorithms.md §8). Every tolerance is relative to the geometry.
 
 use crate::geometry::{clip_to_halfspace, join_adjacent, newell_normal, tangent_frame, Polygon, Vec3};
 use std::borrow::Cow;

@@ -88,7 +88,7 @@ fn full_behind_source_behind_receiver_and_two_sided() {
 
 #[test]
 fn coaxial_disc_blocker_area() {
-    // algorithms.md 8.3(a) with polygons: the blocker N-gon (r3, h3) casts from the apex an
+    // docs/algorithms.md §8.3(a) with polygons: the blocker N-gon (r3, h3) casts from the apex an
     // N-gon of radius r3 h2 / h3 on the target plane; inside the target when r3/h3 <= r2/h2.
     // Source at the origin looking up, target at height h2 facing down.
     let nsides = 96;
@@ -259,7 +259,7 @@ fn lambert_matches_corner_rectangle_formula_and_quadrature() {
 
 #[test]
 fn coaxial_disc_blocker_view_factor() {
-    // algorithms.md 8.3(a): with the blocker's central shadow inside the target,
+    // docs/algorithms.md §8.3(a): with the blocker's central shadow inside the target,
     // F_visible = F(target) - F(blocker), both unobstructed (same polygonal geometry).
     let nsides = 128;
     let (r2, h2) = (1.3, 2.0);
