@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import os
 
+from .energyplus import read_energyplus, read_user_view_factors, write_user_view_factors
 from .meshes import read_mesh
 from .obj import read_obj
 from .scenedata import SceneData
@@ -30,13 +31,15 @@ from .writers import (
     write_vtu,
 )
 
-_OWN = {".obj": "obj", ".vs3": "view3d"}
+_OWN = {".obj": "obj", ".vs3": "view3d", ".idf": "energyplus", ".epjson": "energyplus"}
 
 
 def read_scene(path, format: str | None = None) -> SceneData:
     """Read a scene file: ``.obj`` (own reader: objects/groups become surfaces), ``.vs3``
-    (View3D), anything else through meshio. ``format`` overrides the extension: ``"obj"``,
-    ``"view3d"`` (or ``"vs3"``), or a meshio format name (``"stl"``, ``"gmsh"``, ``"vtu"`` ...)."""
+    (View3D), ``.idf`` / ``.epJSON`` (EnergyPlus zone geometry), anything else through meshio.
+    ``format`` overrides the extension: ``"obj"``, ``"view3d"`` (or ``"vs3"``),
+    ``"energyplus"`` (or ``"idf"``, ``"epjson"``), or a meshio format name (``"stl"``,
+    ``"gmsh"``, ``"vtu"`` ...)."""
     path = os.fspath(path)
     if format is not None:
         f = format.lower()
@@ -44,12 +47,16 @@ def read_scene(path, format: str | None = None) -> SceneData:
             return read_obj(path)
         if f in ("vs3", "view3d"):
             return read_view3d(path)
+        if f in ("energyplus", "idf", "epjson"):
+            return read_energyplus(path)
         return read_mesh(path, format=format)
     kind = _OWN.get(os.path.splitext(path)[1].lower())
     if kind == "obj":
         return read_obj(path)
     if kind == "view3d":
         return read_view3d(path)
+    if kind == "energyplus":
+        return read_energyplus(path)
     return read_mesh(path)
 
 
@@ -60,6 +67,9 @@ __all__ = [
     "read_view3d",
     "read_mesh",
     "read_view3d_output",
+    "read_energyplus",
+    "read_user_view_factors",
+    "write_user_view_factors",
     "write_npz",
     "load_npz",
     "write_csv",
