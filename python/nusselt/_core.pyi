@@ -37,6 +37,36 @@ class SceneCore:
         npt.NDArray[np.float64],
         npt.NDArray[np.float64],
     ]: ...
+    def point_rows(
+        self,
+        points: npt.NDArray[np.float64],
+        normals: npt.NDArray[np.float64],
+        method: str,
+        opts: dict,
+        obstructed: bool,
+    ) -> tuple[
+        npt.NDArray[np.int64],
+        npt.NDArray[np.int32],
+        npt.NDArray[np.float64],
+        npt.NDArray[np.float64] | None,
+    ]:
+        """F from each point ((P, 3), unit normals (P, 3)) to every receiver as CSR parts
+        (indptr, receiver polygon ids, F, standard errors or None)."""
+    def point_sphere_rows(
+        self, points: npt.NDArray[np.float64], obstructed: bool
+    ) -> tuple[
+        npt.NDArray[np.int64],
+        npt.NDArray[np.int32],
+        npt.NDArray[np.float64],
+        npt.NDArray[np.float64] | None,
+    ]:
+        """F from a small sphere at each point to every receiver (visible solid angle / 4 pi)."""
+    def point_sky(self, points: npt.NDArray[np.float64], normals: npt.NDArray[np.float64]) -> npt.NDArray[np.float64]:
+        """Sky view factor of each point: 1 - the fraction the scene's polygons intercept."""
+    def patch_sky(self, rows: npt.NDArray[np.int64], order: int) -> npt.NDArray[np.float64]:
+        """Sky view factor of each polygon in rows (Gauss rule of order over the polygon)."""
+    def rays_blocked(self, origins: npt.NDArray[np.float64], dirs: npt.NDArray[np.float64]) -> npt.NDArray[np.bool_]:
+        """Whether each ray origin + t dir (t > 1e-9 of the scene size) meets a polygon."""
 
 def mirror_pairs(
     areas: npt.NDArray[np.float64],

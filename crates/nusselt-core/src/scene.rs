@@ -26,6 +26,8 @@ use std::str::FromStr;
 use std::sync::atomic::AtomicBool;
 use std::sync::OnceLock;
 
+mod points;
+
 /// Every method by name (design.md).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum AnyMethod {

@@ -130,6 +130,72 @@ impl SceneCore {
         }
         Ok((indptr.into_pyarray(py), idx.into_pyarray(py), val.into_pyarray(py), std.into_pyarray(py), lost.into_pyarray(py)))
     }
+
+    /// F from each point (unit normal) to every receiver, as CSR parts (indptr, receiver
+    /// polygon ids, F, standard error or None); `obstructed`: every polygon blocks.
+    fn point_rows<'py>(
+        &self,
+        py: Python<'py>,
+        points: PyReadonlyArray2<'_, f64>,
+        normals: PyReadonlyArray2<'_, f64>,
+        method: &str,
+        opts: &Bound<'_, PyDict>,
+        obstructed: bool,
+    ) -> PyResult<Csr<'py>> {
+        let (p, n) = (vec3_rows(&points, "points")?, vec3_rows(&normals, "normals")?);
+        let m: AnyMethod = method.parse().map_err(crate::errors::to_py)?;
+        let o = options(method, opts)?;
+        let pool = pool();
+        let b = py.detach(|| {
+            guard(|| {
+                self.valid()?;
+                pool.install(|| self.scene.point_rows(&p, &n, m, obstructed, &o, &AtomicBool::new(false)))
+            })
+        })?;
+        Ok((b.indptr.into_pyarray(py), b.cols.into_pyarray(py), b.g.into_pyarray(py), b.std.map(|s| s.into_pyarray(py))))
+    }
+
+    /// F from a small sphere at each point to every receiver (visible solid angle / 4 pi),
+    /// as CSR parts (indptr, receiver polygon ids, F, None).
+    fn point_sphere_rows<'py>(&self, py: Python<'py>, points: PyReadonlyArray2<'_, f64>, obstructed: bool) -> PyResult<Csr<'py>> {
+        let p = vec3_rows(&points, "points")?;
+        let pool = pool();
+        let b = py.detach(|| guard(|| { self.valid()?; pool.install(|| self.scene.point_sphere_rows(&p, obstructed, &AtomicBool::new(false))) }))?;
+        Ok((b.indptr.into_pyarray(py), b.cols.into_pyarray(py), b.g.into_pyarray(py), b.std.map(|s| s.into_pyarray(py))))
+    }
+
+    /// Sky view factor of each point (unit normal): 1 - the fraction the scene intercepts.
+    fn point_sky<'py>(&self, py: Python<'py>, points: PyReadonlyArray2<'_, f64>, normals: PyReadonlyArray2<'_, f64>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let (p, n) = (vec3_rows(&points, "points")?, vec3_rows(&normals, "normals")?);
+        let pool = pool();
+        let out = py.detach(|| guard(|| { self.valid()?; pool.install(|| self.scene.point_sky(&p, &n, &AtomicBool::new(false))) }))?;
+        Ok(out.into_pyarray(py))
+    }
+
+    /// Sky view factor of each polygon in `rows` (Gauss rule of `order` over the polygon).
+    fn patch_sky<'py>(&self, py: Python<'py>, rows: PyReadonlyArray1<'_, i64>, order: usize) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let rows = to_rows(&rows)?;
+        let pool = pool();
+        let out = py.detach(|| guard(|| { self.valid()?; pool.install(|| self.scene.patch_sky(&rows, order, &AtomicBool::new(false))) }))?;
+        Ok(out.into_pyarray(py))
+    }
+
+    /// Whether each ray (origin, direction) to infinity meets a polygon of the scene.
+    fn rays_blocked<'py>(&self, py: Python<'py>, origins: PyReadonlyArray2<'_, f64>, dirs: PyReadonlyArray2<'_, f64>) -> PyResult<Bound<'py, PyArray1<bool>>> {
+        let (o, d) = (vec3_rows(&origins, "origins")?, vec3_rows(&dirs, "directions")?);
+        let pool = pool();
+        let out = py.detach(|| guard(|| { self.valid()?; pool.install(|| self.scene.rays_blocked(&o, &d, &AtomicBool::new(false))) }))?;
+        Ok(out.into_pyarray(py))
+    }
+}
+
+/// Rows of an (m, 3) array as vectors.
+fn vec3_rows(a: &PyReadonlyArray2<'_, f64>, what: &str) -> PyResult<Vec<nusselt_core::Vec3>> {
+    let a = a.as_array();
+    if a.ncols() != 3 {
+        return Err(pyo3::exceptions::PyValueError::new_err(format!("{what}: expected an (m, 3) array, got shape {:?}", a.shape())));
+    }
+    Ok(a.rows().into_iter().map(|r| nusselt_core::Vec3::new(r[0], r[1], r[2])).collect())
 }
 
 fn to_rows(rows: &PyReadonlyArray1<'_, i64>) -> PyResult<Vec<usize>> {
