@@ -121,6 +121,7 @@ def cmd_matrix(args) -> int:
     from .api import form_factors, memory_estimate
     from .io import write_result
     from .io.writers import MAX_DENSE_ROWS, _check_size, result_format
+    from . import zones
     from .scene import Scene
 
     from .methods import resolve
@@ -145,8 +146,17 @@ def cmd_matrix(args) -> int:
     if avail and need > avail:
         print("nusselt: warning: the result may not fit in memory if most pairs see each other; "
               "--threshold drops small entries", file=sys.stderr)
+    compute = form_factors
+    zone_opts = {}
+    if zones.scene_zones(scene):
+        # a building model: every zone is its own enclosure, computed alone
+        compute = zones.zone_form_factors
+        if args.zone_name:
+            zone_opts["zones"] = [zones.select_zone(scene, args.zone_name)]
+        print(f"zones: {', '.join(zone_opts.get('zones') or zones.scene_zones(scene))} (each its own enclosure)",
+              file=sys.stderr)
     try:
-        res = form_factors(
+        res = compute(
             scene,
             method=args.method,
             progress=not args.quiet,
@@ -154,11 +164,12 @@ def cmd_matrix(args) -> int:
             resume=args.resume,
             block_size=args.block_size,
             threshold=args.threshold,
+            **zone_opts,
             **opts,
         )
     except BaseException:
         # keep finished blocks for --resume; a run that finished none leaves nothing behind
-        if os.path.isdir(partial) and not any(f.startswith("block_") for f in os.listdir(partial)):
+        if os.path.isdir(partial) and not any(f.startswith("block_") for _, _, fs in os.walk(partial) for f in fs):
             shutil.rmtree(partial, ignore_errors=True)
         raise
     if args.correct:
@@ -168,7 +179,7 @@ def cmd_matrix(args) -> int:
         res = res.by_surface()
         res.info["patch_level"] = patch_level
     res.info.update(res.trust())
-    write_result(args.output, res, scene=scene, to_surface=args.to_surface)
+    write_result(args.output, res, scene=scene, to_surface=args.to_surface, zone_name=args.zone_name)
     shutil.rmtree(partial, ignore_errors=True)
     print(res.summary())
     print(f"written {args.output}")
@@ -234,12 +245,13 @@ def build_parser() -> argparse.ArgumentParser:
         "it in the format given by the output's extension. Finished row blocks are kept in OUTPUT.partial "
         "while the run goes on, so an interrupted run continues with --resume and loses no finished work.",
         epilog="output formats: .npz (sparse matrix, areas, names, row sums, errors; read it with "
-        "nusselt.io.load_npz), .csv (dense table), .txt (View3D text output), .idf (EnergyPlus "
-        "ZoneProperty:UserViewFactors:BySurfaceName, per surface), .vtu (ParaView: per-cell area, row sum, "
+        "nusselt.io.load_npz), .csv (dense table), .txt (View3D text output), .idf / .epJSON (EnergyPlus "
+        "ZoneProperty:UserViewFactors:BySurfaceName, per surface, one object per zone, all pairs), .vtu (ParaView: per-cell area, row sum, "
         "and F to --to-surface). Exit status: 0 done, 2 bad input or error, 130 interrupted.",
     )
-    m.add_argument("scene", help="scene file: .obj, .vs3 (View3D) or any mesh format meshio reads")
-    m.add_argument("-o", "--output", required=True, help="output file (.npz, .csv, .txt View3D, .idf, .vtu)")
+    m.add_argument("scene", help="scene file: .obj, .vs3 (View3D), .idf / .epJSON (EnergyPlus: every zone is "
+                   "computed as its own enclosure) or any mesh format meshio reads")
+    m.add_argument("-o", "--output", required=True, help="output file (.npz, .csv, .txt View3D, .idf, .epJSON, .vtu)")
     m.add_argument("--method", default="auto", help="method name (default: %(default)s; see `nusselt methods`)")
     m.add_argument("--surfaces", action="store_true",
                    help="aggregate to named surfaces (additivity over receivers, area-weighted sources)")
@@ -258,6 +270,9 @@ def build_parser() -> argparse.ArgumentParser:
     m.add_argument("--block-size", type=int, default=2_000_000, metavar="N",
                    help="work per checkpointed block: pairs (pair methods) or row entries (row methods)")
     m.add_argument("--to-surface", metavar="NAME", help="for .vtu output: also store F from every patch to NAME")
+    m.add_argument("--zone-name", metavar="NAME",
+                   help="EnergyPlus models (.idf, .epJSON): compute and write only zone NAME; other scenes: the "
+                   "zone name written to .idf/.epJSON output (default: the scene file's name)")
     m.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
     m.set_defaults(func=cmd_matrix)
 

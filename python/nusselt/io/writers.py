@@ -333,8 +333,8 @@ def write_vtu(path, polygons_vertices, faces, cell_data: dict | None = None) -> 
 # --- dispatch -----------------------------------------------------------------------------
 
 _EXT_FORMAT = {".npz": "npz", ".csv": "csv", ".txt": "view3d", ".view3d": "view3d", ".vf": "view3d",
-               ".idf": "energyplus", ".vtu": "vtu"}
-FORMATS = ("npz", "csv", "view3d", "energyplus", "vtu")
+               ".idf": "energyplus", ".epjson": "epjson", ".vtu": "vtu"}
+FORMATS = ("npz", "csv", "view3d", "energyplus", "epjson", "vtu")
 
 
 def result_format(path, format: str | None = None) -> str:
@@ -348,7 +348,7 @@ def result_format(path, format: str | None = None) -> str:
     ext = os.path.splitext(os.fspath(path))[1].lower()
     if ext not in _EXT_FORMAT:
         raise ValueError(f"{path}: cannot tell the output format from the extension {ext or '(none)'}; "
-                         "use .npz, .csv, .txt (View3D), .idf (EnergyPlus) or .vtu")
+                         "use .npz, .csv, .txt (View3D), .idf or .epJSON (EnergyPlus) or .vtu")
     return _EXT_FORMAT[ext]
 
 
@@ -368,10 +368,16 @@ def write_result(path, result, *, format: str | None = None, scene=None, to_surf
     ``areas``, ``names`` and optionally ``faces``, ``surface``, ``surface_names``,
     ``std_err``, ``lost``, ``method``, ``info``, ``by_surface()``).
 
-    * ``.idf`` is always per named surface (patch results are aggregated with the
-      form-factor algebra); ``zone_name`` defaults to the scene file's stem.
+    * ``.idf`` / ``.epJSON`` are always per named surface (patch results are aggregated
+      with the form-factor algebra), all N^2 pairs of every zone, zeros included. A scene
+      from a building model (EnergyPlus) gives one object per zone of the result (compute
+      it with :func:`nusselt.zones.zone_form_factors`); ``zone_name`` then picks one zone
+      (or renames the only one). Other scenes are one zone, named ``zone_name`` (default:
+      the scene file's stem).
     * ``.txt`` is per surface when the scene came from a View3D file (View3D's own output
-      is per surface), else as given; emissivities and ``encl`` come from the scene.
+      is per surface), else as given; emissivities and ``encl`` come from the scene. When
+      the ``.vs3`` file says ``emit=1`` the matrix is Hottel's script-F of those
+      emissivities (clamped to [0.001, 0.999] as View3D does), as View3D then writes.
     * ``.vtu``: cell data ``area``, ``surface``, ``obstruction``, ``row`` (row of the
       result, -1 for none), ``row_sum``, and ``F_to_<name>`` when ``to_surface`` is given.
     * ``precision``: CSV significant digits / View3D decimals (default: exact for CSV,
@@ -411,22 +417,72 @@ def write_result(path, result, *, format: str | None = None, scene=None, to_surf
             result = result.by_surface()
             matrix, areas, names, patch_level = result.matrix, result.areas, result.names, False
         em = _row_emissivity(result, scene, patch_level)
+        emit = int(bool(meta.get("emit", 0))) if meta.get("format") == "view3d" else 0
+        if emit:
+            em, matrix = _view3d_script_f(path, matrix, em)
         write_view3d(path, matrix, areas, emissivity=em, encl=int(meta.get("encl", 0) or 0),
-                     precision=6 if precision is None else precision)
-    elif fmt == "energyplus":
-        if patch_level:
-            if not hasattr(result, "by_surface"):
-                raise ValueError(f"{path}: EnergyPlus needs surface names; aggregate the result to surfaces first")
-            result = result.by_surface()
-            matrix, names = result.matrix, result.names
-        if zone_name is None:
-            src = getattr(scene, "source", None)
-            zone_name = os.path.splitext(os.path.basename(src))[0] if src else "Zone 1"
-        write_energyplus(path, matrix, names, zone_name)
+                     precision=6 if precision is None else precision, emit=emit)
+    elif fmt in ("energyplus", "epjson"):
+        _write_result_energyplus(path, result, scene, zone_name, "epjson" if fmt == "epjson" else "idf",
+                                 patch_level)
     else:
         if scene is None:
             raise ValueError(f"{path}: VTU output needs the scene geometry (pass scene=)")
         _write_result_vtu(path, result, scene, to_surface, patch_level)
+
+
+def _view3d_script_f(path, matrix, emissivity):
+    """View3D's ``emit=1`` output: script-F of the surface emissivities, which View3D clamps
+    to [0.001, 0.999] when it reads them (getdat.c); returns (emissivities, script-F)."""
+    if emissivity is None or not np.all(np.isfinite(emissivity)):
+        raise ValueError(f"{path}: the .vs3 file says emit=1 (write script-F), which needs the emissivity "
+                         "of every surface with a row")
+    from ..exchange import script_f
+
+    e = np.clip(np.asarray(emissivity, dtype=np.float64), 0.001, 0.999)
+    f = matrix.toarray() if sp.issparse(matrix) else np.asarray(matrix, dtype=np.float64)
+    return e, np.asarray(script_f(f, e))
+
+
+def _write_result_energyplus(path, result, scene, zone_name, fmt, patch_level):
+    """One ZoneProperty:UserViewFactors:BySurfaceName object per zone of the result."""
+    from .energyplus import write_user_view_factors
+
+    if patch_level:
+        if not hasattr(result, "by_surface"):
+            raise ValueError(f"{path}: EnergyPlus needs surface names; aggregate the result to surfaces first")
+        result = result.by_surface()
+    matrix, names = _get(result, "matrix"), list(_get(result, "names"))
+    f = matrix.toarray() if sp.issparse(matrix) else np.asarray(matrix, dtype=np.float64)
+    meta = getattr(scene, "meta", None) or {}
+    surface_zone = meta.get("surface_zone")
+    faces = _get(result, "faces")
+    if not surface_zone or faces is None:
+        if zone_name is None:
+            src = getattr(scene, "source", None)
+            zone_name = os.path.splitext(os.path.basename(src))[0] if src else "Zone 1"
+        write_user_view_factors(path, [(zone_name, f, names)], format=fmt)
+        return
+    row_zone = np.array([surface_zone[int(k)] for k in faces], dtype=object)
+    zones = [z for z in meta.get("zones", []) if (row_zone == z).any()]
+    groups = {z: np.flatnonzero(row_zone == z) for z in zones}
+    for z, rows in groups.items():
+        outside = np.abs(f[np.ix_(rows, np.setdiff1d(np.arange(len(names)), rows))]).max(initial=0.0)
+        if outside > 0:
+            raise ValueError(f"{path}: zone {z!r} has view factors to surfaces of other zones (up to {outside:.3g}); "
+                             "every zone is its own enclosure: compute zone by zone "
+                             "(nusselt.zones.zone_form_factors, as `nusselt matrix` does for building models)")
+    if zone_name is not None:
+        want = str(zone_name).strip()
+        match = [z for z in zones if z.lower() == want.lower()]
+        if match:
+            groups = {match[0]: groups[match[0]]}
+        elif len(zones) == 1:
+            groups = {want: groups[zones[0]]}  # rename the only zone
+        else:
+            raise ValueError(f"{path}: no zone named {want!r} in the result (zones: {', '.join(zones)})")
+    write_user_view_factors(path, [(z, f[np.ix_(r, r)], [names[i] for i in r]) for z, r in groups.items()],
+                            format=fmt)
 
 
 def _row_emissivity(result, scene, patch_level):
