@@ -12,6 +12,8 @@ from .api import form_factors, point_view_factor, view_factor
 from .methods import METHODS
 from .result import FormFactors
 from .io import load_npz, read_scene
-from .scene import Scene
+from .scene import NusseltWarning, OrientationWarning, RepairWarning, Scene
+from .checks import ZeroRowWarning
 
-__all__ = ["Scene", "FormFactors", "METHODS", "form_factors", "view_factor", "point_view_factor", "load_npz", "read_scene", "io", "__version__"]
+__all__ = ["Scene", "FormFactors", "METHODS", "form_factors", "view_factor", "point_view_factor", "load_npz", "read_scene", "io", "__version__",
+           "NusseltWarning", "OrientationWarning", "RepairWarning", "ZeroRowWarning"]

@@ -8,6 +8,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from . import _core, engine
+from .checks import warn_zero_rows
 from .methods import resolve
 from .result import FormFactors
 from .scene import PLANARITY_TOL, Scene
@@ -106,8 +107,16 @@ def form_factors(
     """
     if not isinstance(scene, Scene):
         raise TypeError(f"form_factors expects a nusselt.Scene, got {type(scene).__name__}")
-    if not (isinstance(block_size, int) and block_size >= 1):
+    if isinstance(block_size, np.integer):
+        block_size = int(block_size)  # numpy integers are integers
+    if not (isinstance(block_size, int) and not isinstance(block_size, bool) and block_size >= 1):
         raise ValueError(f"block_size must be a positive integer, got {block_size!r}")
+    if scene.two_sided.any():
+        from .two_sided import two_sided_form_factors
+
+        return two_sided_form_factors(form_factors, scene, method=method, dense=dense, progress=progress,
+                                      checkpoint=checkpoint, resume=resume, block_size=block_size,
+                                      threshold=threshold, **options)
     if not (isinstance(threshold, (int, float)) and 0.0 <= threshold < 1.0):
         raise ValueError(f"threshold must be a number in [0, 1), got {threshold!r}")
     m, opts = resolve(method, options)
@@ -154,6 +163,7 @@ def form_factors(
         matrix = sp.csr_array(kept)
         if std is not None:
             std = sp.csr_array(std.multiply(keep > 0).tocsr())
+    warn_zero_rows(scene, matrix, recv)
     names = [f"{scene.surface_names[scene.surface[k]]}[{k}]" for k in recv]
     return FormFactors(
         matrix.toarray() if dense else matrix,

@@ -1,0 +1,76 @@
+"""Checks of a computed result against what the geometry allows (warnings, not errors)."""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+import scipy.sparse as sp
+
+from .scene import NusseltWarning, Scene
+
+
+class ZeroRowWarning(NusseltWarning):
+    """Rows of F are 0 although another face lies in front of them (a face turned the
+    wrong way, most often)."""
+
+
+#: At most this many (zero row, receiver) pairs are tested; beyond it zero rows are sampled.
+_BUDGET = 20_000_000
+
+
+def facing_partner(scene: Scene, rows: np.ndarray, cols: np.ndarray, backs: bool = False) -> np.ndarray:
+    """For each face in ``rows``: whether some face in ``cols`` and it lie in front of each
+    other (centroid of each strictly on the front side of the other's plane, by 1e-9 of the
+    scene's size). Without obstacles such a pair has F > 0 both ways: near the centroids
+    there are points that see each other's front. ``backs=True``: the same for the backs
+    (the pair would see each other if both were turned around)."""
+    c, n = scene.centroids, (-scene.normals if backs else scene.normals)
+    size = float(np.linalg.norm(np.ptp(scene.vertices, axis=0))) or 1.0
+    tol = 1e-9 * size
+    out = np.zeros(len(rows), dtype=bool)
+    step = max(1, _BUDGET // max(len(cols), 1) // 8)
+    cc, nc = c[cols], n[cols]
+    for s in range(0, len(rows), step):
+        r = rows[s:s + step]
+        d = cc[None, :, :] - c[r][:, None, :]  # (r, cols, 3): from row to column
+        ahead = np.einsum("rkj,rj->rk", d, n[r]) > tol
+        behind = np.einsum("rkj,kj->rk", d, nc) < -tol
+        out[s:s + step] = (ahead & behind).any(axis=1)
+    return out
+
+
+def warn_zero_rows(scene: Scene, matrix, faces: np.ndarray, *, stacklevel: int = 3) -> None:
+    """Warn (:class:`ZeroRowWarning`) when rows of ``matrix`` (rows = ``faces`` of the
+    scene) are 0 while another receiver lies in front of them, or the whole result is 0."""
+    m = matrix if sp.issparse(matrix) else sp.csr_array(np.asarray(matrix))
+    nr = m.shape[0]
+    if nr < 2:
+        return
+    sums = np.asarray(abs(m).sum(axis=1)).ravel()
+    zero = np.flatnonzero(sums == 0)
+    if not len(zero):
+        return
+    checked = zero
+    if len(zero) * nr > _BUDGET:
+        checked = zero[np.unique(np.linspace(0, len(zero) - 1, max(1, _BUDGET // nr)).astype(np.int64))]
+    faces = np.asarray(faces)
+    bad = checked[facing_partner(scene, faces[checked], faces)]
+    backs = m.nnz == 0 and not len(bad)
+    if backs:
+        bad = checked[facing_partner(scene, faces[checked], faces, backs=True)]
+    if not len(bad):
+        return
+    first = scene._face_label(int(faces[bad[0]]))
+    sampled = f" (of {len(checked)} zero rows checked)" if len(checked) < len(zero) else ""
+    if m.nnz == 0:
+        how = "behind" if backs else "in front of"
+        msg = (f"the whole result is 0, although faces lie {how} each other ({first} and others): "
+               "the faces probably face the wrong way (fronts must face each other: counter-clockwise "
+               "seen from the front); try orient='inward' (a room) or 'outward' (solids), or "
+               "two_sided for plates (nusselt matrix --orient ...)")
+    else:
+        msg = (f"{len(bad)} of {nr} rows are 0{sampled} although another face lies in front of each "
+               f"({first} first): those faces probably face the wrong way (or are hidden "
+               "entirely behind other faces); see orient and two_sided in the guide")
+    warnings.warn(f"{scene.source + ': ' if scene.source else ''}{msg}", ZeroRowWarning, stacklevel=stacklevel)

@@ -1,0 +1,184 @@
+"""Mesh topology of a polygon soup, in numpy: area vectors, degenerate faces, closed shells
+and their orientation.
+
+A *shell* is a set of faces connected through shared edges (vertices are welded by exact
+coordinates first, since STL and many exporters repeat vertices per face). A shell is
+*closed and consistent* when every edge is used exactly twice, in opposite directions; its
+signed volume V = 1/3 sum_f a_f . p_f (a_f the face's area vector, p_f any of its points,
+divergence theorem) is then positive when the faces' fronts point out of the enclosed volume
+and negative when they point into it.
+
+This module does not import the compiled core, so readers can use it.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.sparse as sp
+from scipy.sparse.csgraph import connected_components
+
+ORIENTS = ("auto", "inward", "outward", "as-is")
+
+
+def _flat(faces: list[np.ndarray]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(flat vertex indices, index of each one's successor in its face, face offsets)."""
+    sizes = np.array([len(f) for f in faces], dtype=np.int64)
+    offsets = np.zeros(len(faces) + 1, dtype=np.int64)
+    np.cumsum(sizes, out=offsets[1:])
+    flat = np.concatenate(faces) if faces else np.zeros(0, np.int64)
+    pos = np.arange(len(flat))
+    start = np.repeat(offsets[:-1], sizes)
+    nxt = start + (pos - start + 1) % np.repeat(sizes, sizes)
+    return flat, nxt, offsets
+
+
+def area_vectors(vertices: np.ndarray, faces: list[np.ndarray]) -> np.ndarray:
+    """(F, 3) Newell area vectors, a_f = 1/2 sum_i p_i x p_{i+1} (|a_f| = area, along the
+    front normal), computed relative to each face's first vertex for accuracy."""
+    flat, nxt, offsets = _flat(faces)
+    first = np.repeat(vertices[flat[offsets[:-1]]], np.diff(offsets), axis=0)
+    p = vertices[flat] - first
+    q = vertices[flat[nxt]] - first
+    return 0.5 * np.add.reduceat(np.cross(p, q), offsets[:-1], axis=0) if len(faces) else np.zeros((0, 3))
+
+
+def degenerate_faces(vertices: np.ndarray, faces: list[np.ndarray]) -> np.ndarray:
+    """Faces with zero area (collinear or coincident vertices), by the core's own test:
+    twice the area at most 1e-14 of the squared diameter of the face's bounding box."""
+    flat, _, offsets = _flat(faces)
+    p = vertices[flat]
+    lo = np.minimum.reduceat(p, offsets[:-1], axis=0)
+    hi = np.maximum.reduceat(p, offsets[:-1], axis=0)
+    scale2 = ((hi - lo) ** 2).sum(axis=1)
+    twice = 2.0 * np.linalg.norm(area_vectors(vertices, faces), axis=1)
+    return ~(twice > 1e-14 * scale2)
+
+
+@dataclass
+class Shells:
+    """Shells of a polygon soup: ``label[f]`` is face f's shell; per shell, ``closed``
+    (closed and consistently oriented) and ``volume`` (signed, > 0: fronts point out)."""
+
+    label: np.ndarray
+    closed: np.ndarray
+    volume: np.ndarray
+
+    @property
+    def count(self) -> int:
+        return len(self.closed)
+
+
+def shells(vertices: np.ndarray, faces: list[np.ndarray]) -> Shells:
+    nf = len(faces)
+    _, weld = np.unique(vertices, axis=0, return_inverse=True)
+    weld = weld.ravel()
+    flat, nxt, offsets = _flat(faces)
+    a, b = weld[flat], weld[flat[nxt]]
+    face_of_edge = np.repeat(np.arange(nf), np.diff(offsets))
+    lo, hi = np.minimum(a, b), np.maximum(a, b)
+    keys, key_of_edge, count = np.unique(np.stack([lo, hi], axis=1), axis=0, return_inverse=True,
+                                         return_counts=True)
+    key_of_edge = key_of_edge.ravel()
+    nk = len(keys)
+    # consistent: each edge twice, once each way (a < b once, a > b once)
+    forward = np.bincount(key_of_edge, weights=(a < b).astype(float), minlength=nk)
+    edge_ok = (count == 2) & (forward == 1)
+    # faces and edges as one graph: a face is joined to its edges
+    g = sp.coo_matrix((np.ones(len(flat)), (face_of_edge, nf + key_of_edge)), shape=(nf + nk, nf + nk))
+    _, lab = connected_components(g, directed=False)
+    face_lab = lab[:nf]
+    _, face_lab = np.unique(face_lab, return_inverse=True)
+    ns = int(face_lab.max()) + 1 if nf else 0
+    bad = np.bincount(face_lab[face_of_edge], weights=(~edge_ok[key_of_edge]).astype(float), minlength=ns)
+    av = area_vectors(vertices, faces)
+    p0 = vertices[flat[offsets[:-1]]] if nf else np.zeros((0, 3))
+    # shift to the scene's centre so the volume sum does not cancel far from the origin
+    centre = 0.5 * (vertices.min(axis=0) + vertices.max(axis=0)) if len(vertices) else np.zeros(3)
+    vol = np.bincount(face_lab, weights=np.einsum("ij,ij->i", av, p0 - centre) / 3.0, minlength=ns)
+    return Shells(face_lab, bad == 0, vol)
+
+
+def _winding(points: np.ndarray, vertices: np.ndarray, faces: list[np.ndarray]) -> np.ndarray:
+    """Winding number of a closed surface about each point: the sum of the signed solid
+    angles of its faces (fan triangles; Van Oosterom and Strackee's formula) over 4 pi;
+    +-1 inside, 0 outside."""
+    tris = [np.stack([np.full(len(f) - 2, f[0]), f[1:-1], f[2:]], axis=1) for f in faces]
+    t = np.concatenate(tris)
+    out = np.zeros(len(points))
+    for k, x in enumerate(points):
+        r = vertices[t] - x  # (T, 3, 3)
+        la, lb, lc = (np.linalg.norm(r[:, i], axis=1) for i in range(3))
+        num = np.einsum("ij,ij->i", r[:, 0], np.cross(r[:, 1], r[:, 2]))
+        den = (la * lb * lc + np.einsum("ij,ij->i", r[:, 0], r[:, 1]) * lc
+               + np.einsum("ij,ij->i", r[:, 0], r[:, 2]) * lb + np.einsum("ij,ij->i", r[:, 1], r[:, 2]) * la)
+        out[k] = 2.0 * np.arctan2(num, den).sum() / (4.0 * np.pi)
+    return out
+
+
+def _encloses_all(s: int, sh: Shells, vertices: np.ndarray, faces: list[np.ndarray]) -> bool:
+    """Whether closed shell ``s`` holds every other face of the scene inside it: bounding
+    box first, then the winding number about the centre of up to 64 other shells."""
+    mine = np.flatnonzero(sh.label == s)
+    vm = np.unique(np.concatenate([faces[k] for k in mine]))
+    lo, hi = vertices[vm].min(axis=0), vertices[vm].max(axis=0)
+    tol = 1e-9 * float(np.linalg.norm(hi - lo))
+    if ((vertices < lo - tol) | (vertices > hi + tol)).any():
+        return False
+    others = [o for o in range(sh.count) if o != s]
+    if not others:
+        return True
+    pick = np.unique(np.linspace(0, len(others) - 1, min(64, len(others))).astype(int))
+    centres = []
+    for o in (others[i] for i in pick):
+        idx = np.concatenate([faces[k] for k in np.flatnonzero(sh.label == o)])
+        centres.append(vertices[idx].mean(axis=0))
+    w = _winding(np.array(centres), vertices, [faces[k] for k in mine])
+    return bool(np.all(np.abs(w) > 0.5))
+
+
+def orient_faces(vertices: np.ndarray, faces: list[np.ndarray], orient: str = "auto"):
+    """Faces oriented as asked, and a report.
+
+    ``orient``:
+
+    * ``"as-is"``: unchanged.
+    * ``"inward"`` / ``"outward"``: every closed, consistently oriented shell is turned so
+      that its fronts face into / out of the volume it encloses (rooms are seen from inside,
+      solids from outside); other faces are left as they are (the report counts them).
+    * ``"auto"``: a closed shell whose fronts face outward while it holds every other face
+      of the scene inside it (or is alone) is a room exported as a solid (Blender, trimesh,
+      pyvista and EnergyPlus list a zone's walls counter-clockwise from outside): its
+      fronts would see nothing, so it is turned inward. Everything else is left as it is,
+      so closed solids inside a room or in an urban scene stay seen from outside.
+
+    Returns ``(faces, report)``; ``report`` holds ``flipped`` (indices of the reversed
+    faces), ``open`` (faces in shells that are not closed and consistent), ``shells``
+    and, for ``"as-is"``, ``outward_enclosure`` (faces of a shell ``"auto"`` would turn).
+    """
+    if orient not in ORIENTS:
+        raise ValueError(f"orient must be one of {', '.join(map(repr, ORIENTS))}, got {orient!r}")
+    faces = list(faces)
+    report: dict = {"orient": orient, "flipped": np.zeros(0, np.int64), "open": np.zeros(0, np.int64)}
+    if not faces:
+        return faces, report
+    sh = shells(vertices, faces)
+    report["shells"] = sh.count
+    report["open"] = np.flatnonzero(~sh.closed[sh.label])
+    flip_shell = np.zeros(sh.count, dtype=bool)
+    if orient in ("inward", "outward"):
+        want = -1.0 if orient == "inward" else 1.0
+        flip_shell = sh.closed & (sh.volume * want < 0)
+    else:
+        cand = np.flatnonzero(sh.closed & (sh.volume > 0))
+        enclosing = [s for s in cand if _encloses_all(int(s), sh, vertices, faces)]
+        if orient == "auto":
+            flip_shell[enclosing] = True
+        else:
+            report["outward_enclosure"] = np.flatnonzero(np.isin(sh.label, enclosing))
+    flipped = np.flatnonzero(flip_shell[sh.label])
+    for k in flipped:
+        faces[k] = faces[k][::-1].copy()
+    report["flipped"] = flipped
+    return faces, report

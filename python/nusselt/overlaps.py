@@ -1,0 +1,115 @@
+"""Coplanar same-facing faces that overlap (duplicated or overlapping faces of a scene).
+
+Two faces that cover the same piece of a plane and face the same way are each counted as a
+receiver, so rows sum to more than 1 (a doubled mesh gives row sums of 2). Finding them
+without comparing every pair:
+
+1. faces are grouped by plane: unit normal rounded to 1e-6, then sorted by the plane's
+   offset n . c and split where the offset jumps by more than 1e-8 of the scene's size;
+2. within a plane group, faces are triangulated and their triangles' 2-D bounding boxes,
+   shrunk by 1e-9 of the scene's size so that neighbours sharing an edge do not count,
+   are swept along x;
+3. candidate triangle pairs are tested for an interior overlap by the separating-axis
+   theorem (two convex polygons overlap with positive area iff no edge normal of either
+   separates them by more than the tolerance), all in numpy.
+
+Faces facing opposite ways (a two-sided wall modelled as two faces, a View3D mask) are in
+different groups and never reported.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import numpy as np
+
+from .io import _planar
+
+
+def _pairs_in_sweep(lo: np.ndarray, hi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Index pairs (a, b) of boxes whose [lo, hi] intervals overlap in x and y."""
+    order = np.argsort(lo[:, 0], kind="stable")
+    xs = lo[order, 0]
+    end = np.searchsorted(xs, hi[order, 0], side="left")
+    start = np.arange(len(order)) + 1
+    cnt = np.maximum(end - start, 0)
+    a = np.repeat(np.arange(len(order)), cnt)
+    offs = np.repeat(np.cumsum(cnt) - cnt, cnt)
+    b = np.repeat(start, cnt) + (np.arange(cnt.sum()) - offs)
+    a, b = order[a], order[b]
+    keep = (lo[a, 1] < hi[b, 1]) & (lo[b, 1] < hi[a, 1])
+    return a[keep], b[keep]
+
+
+def _sat_overlap(ta: np.ndarray, tb: np.ndarray, eps: float) -> np.ndarray:
+    """For (P, 3, 2) triangle pairs: whether they overlap with positive area (by more than
+    ``eps`` along every edge normal)."""
+    ok = np.ones(len(ta), dtype=bool)
+    for tri in (ta, tb):
+        for k in range(3):
+            e = tri[:, (k + 1) % 3] - tri[:, k]
+            ax = np.stack([-e[:, 1], e[:, 0]], axis=1)
+            ax /= np.maximum(np.linalg.norm(ax, axis=1, keepdims=True), 1e-300)
+            pa = np.einsum("pvi,pi->pv", ta, ax)
+            pb = np.einsum("pvi,pi->pv", tb, ax)
+            depth = np.minimum(pa.max(1), pb.max(1)) - np.maximum(pa.min(1), pb.min(1))
+            ok &= depth > eps
+    return ok
+
+
+def coplanar_overlaps(
+    vertices: np.ndarray,
+    faces: list[np.ndarray],
+    normals: np.ndarray,
+    centroids: np.ndarray,
+    triangulate: Callable[[int], list],
+    among: np.ndarray,
+) -> list[tuple[int, int, float]]:
+    """Pairs ``(i, j, overlap area)``, i < j, of faces in ``among`` (indices) that lie in
+    one plane, face the same way and overlap with positive area."""
+    among = np.asarray(among, dtype=np.int64)
+    if len(among) < 2:
+        return []
+    size = float(np.linalg.norm(vertices.max(axis=0) - vertices.min(axis=0))) or 1.0
+    n = normals[among]
+    key = np.round(n * 1e6).astype(np.int64)
+    d = np.einsum("ij,ij->i", n, centroids[among])
+    order = np.lexsort((d, key[:, 2], key[:, 1], key[:, 0]))
+    ks, ds = key[order], d[order]
+    new = np.ones(len(order), dtype=bool)
+    new[1:] = (ks[1:] != ks[:-1]).any(axis=1) | (np.diff(ds) > 1e-8 * size)
+    group = np.cumsum(new) - 1
+    sizes = np.bincount(group)
+    eps = 1e-9 * size
+    found: dict[tuple[int, int], list] = {}
+    for g in np.flatnonzero(sizes >= 2):
+        members = among[order[group == g]]
+        nrm = normals[members[0]]
+        frame_u = np.cross(nrm, [1.0, 0.0, 0.0] if abs(nrm[0]) < 0.9 else [0.0, 1.0, 0.0])
+        frame_u /= np.linalg.norm(frame_u)
+        frame_v = np.cross(nrm, frame_u)
+        tris, owner = [], []
+        for k in members:
+            t = np.asarray(triangulate(int(k)), dtype=np.int64).reshape(-1, 3)
+            tris.append(vertices[faces[k]][t])
+            owner.append(np.full(len(t), k))
+        t3 = np.concatenate(tris)
+        own = np.concatenate(owner)
+        t2 = np.stack([t3 @ frame_u, t3 @ frame_v], axis=2)
+        lo, hi = t2.min(axis=1) + eps, t2.max(axis=1) - eps
+        a, b = _pairs_in_sweep(lo, hi)
+        diff = own[a] != own[b]
+        a, b = a[diff], b[diff]
+        hit = _sat_overlap(t2[a], t2[b], eps)
+        for x, y in zip(a[hit].tolist(), b[hit].tolist()):
+            i, j = int(own[x]), int(own[y])
+            found.setdefault((min(i, j), max(i, j)), []).append((t2[x], t2[y]))
+    out = []
+    for (i, j), parts in sorted(found.items()):
+        area = 0.0
+        for p, q in parts:
+            p = p if _planar.signed_area_2d(p) > 0 else p[::-1]
+            q = q if _planar.signed_area_2d(q) > 0 else q[::-1]
+            area += _planar.convex_intersection_area(p, q)
+        out.append((i, j, area))
+    return out
