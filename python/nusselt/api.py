@@ -5,9 +5,9 @@ from __future__ import annotations
 import os
 
 import numpy as np
-import scipy.sparse as sp
 
-from . import _core, engine
+from . import _core, assembly, blocks, budget
+from . import checkpoint as _checkpoint
 from .checks import warn_zero_rows
 from .methods import resolve
 from .result import FormFactors
@@ -76,6 +76,9 @@ def form_factors(
     resume: bool = False,
     block_size: int = 2_000_000,
     threshold: float = 0.0,
+    dtype: type | np.dtype | str = np.float64,
+    client=None,
+    check_memory: bool = True,
     **options,
 ) -> FormFactors:
     """The form-factor matrix of a scene: F[i, j] for every pair of receiving polygons.
@@ -103,6 +106,17 @@ def form_factors(
         Rows then sum to less by what they dropped; ``info["dropped"]`` reports the largest
         row mass dropped.
 
+    dtype : numpy.float64 or numpy.float32
+        Type of the stored values (float32: a third less memory; F to about 6e-8 relative).
+        The core always computes in float64.
+    client : dask.distributed.Client, optional
+        Run the row blocks as tasks on this Dask cluster (:mod:`nusselt.distributed`): the
+        scene is shipped once per worker, finished blocks go to ``checkpoint`` as they
+        arrive, and the matrix is identical to a local run.
+    check_memory : bool
+        Refuse (MemoryError, before any work) a run whose worst-case result does not fit in
+        the available memory (:mod:`nusselt.budget`).
+
     Returns a :class:`FormFactors`; ``matrix`` is a ``scipy.sparse.csr_array`` unless dense.
     """
     if not isinstance(scene, Scene):
@@ -116,56 +130,72 @@ def form_factors(
 
         return two_sided_form_factors(form_factors, scene, method=method, dense=dense, progress=progress,
                                       checkpoint=checkpoint, resume=resume, block_size=block_size,
-                                      threshold=threshold, **options)
+                                      threshold=threshold, dtype=dtype, client=client,
+                                      check_memory=check_memory, **options)
     if not (isinstance(threshold, (int, float)) and 0.0 <= threshold < 1.0):
         raise ValueError(f"threshold must be a number in [0, 1), got {threshold!r}")
+    value_type = np.dtype(dtype)
+    if value_type not in (np.float64, np.float32):
+        raise ValueError(f"dtype must be float64 or float32, got {dtype!r}")
     m, opts = resolve(method, options)
     recv = scene.receivers
     nr = len(recv)
-    if dense:
-        _check_dense_fits(nr)
+    kind = m.kind
+    if check_memory:
+        budget.check_memory(nr, kind=kind, threshold=float(threshold), dtype=value_type,
+                            with_std="seed" in m.options, dense=dense)
     col_of = np.full(len(scene), -1, dtype=np.int64)
     col_of[recv] = np.arange(nr)
 
-    kind = m.kind
-    blocks = engine.plan_blocks(recv, kind, block_size)
+    plan = blocks.plan_blocks(recv, kind, block_size)
     ckpt = None
     if checkpoint is not None:
-        digest = engine.scene_digest(scene, method, opts, kind, block_size)
-        ckpt = engine.Checkpoint(checkpoint, digest, len(blocks), resume)
+        run = _checkpoint.describe_run(scene, method, opts, kind, block_size, len(plan))
+        ckpt = _checkpoint.Checkpoint(checkpoint, run, resume)
+
+    # pair blocks lose their below-threshold pairs as they arrive (stored whole in the checkpoint)
+    dropped_mass = np.zeros(len(scene))
+    scene_areas = np.asarray(scene.areas, dtype=np.float64)
+
+    def keep(b: blocks.Block) -> blocks.Block:
+        if kind == "pairs":
+            return assembly.threshold_pair_block(b, scene_areas, float(threshold), dropped_mass)
+        return b
 
     def compute(rows):
         if kind == "pairs":
-            return engine.Block(rows, *scene._core.pair_rows(rows, method, opts))
-        return engine.Block(rows, *scene._core.full_rows(rows, method, opts))
+            return blocks.Block(rows, *scene._core.pair_rows(rows, method, opts))
+        return assembly.compact_row_block(blocks.Block(rows, *scene._core.full_rows(rows, method, opts)))
 
     bar = _progress(progress, total=nr, desc=f"nusselt {method}")
     try:
-        done = engine.run_blocks(compute, blocks, checkpoint=ckpt, progress_bar=bar)
+        if client is not None:
+            from . import distributed
+
+            done = distributed.run_blocks(client, scene, method, opts, kind, plan, checkpoint=ckpt,
+                                          progress_bar=bar, keep=keep)
+        else:
+            done = blocks.run_blocks(compute, plan, checkpoint=ckpt, progress_bar=bar, keep=keep)
     finally:
         if bar is not None:
             bar.close()
+        if ckpt is not None:
+            ckpt.close()
 
     areas = scene.areas[recv]
-    std = lost = None
-    if kind == "pairs":
-        matrix, std = _assemble_pairs(done, col_of, areas)
-    else:
-        matrix, std, lost = _assemble_rows(done, col_of, nr)
+    std = lost = reciprocity = None
     dropped = 0.0
-    if threshold > 0.0:
-        # Drop a pair only when both directions are small, so reciprocity still holds.
-        big = (matrix >= threshold).astype(np.int8)
-        keep = (big + big.T).tocsr()
-        kept = matrix.multiply(keep > 0).tocsr()
-        kept.sort_indices()
-        dropped = float(np.max(matrix.sum(axis=1) - kept.sum(axis=1))) if nr else 0.0
-        matrix = sp.csr_array(kept)
-        if std is not None:
-            std = sp.csr_array(std.multiply(keep > 0).tocsr())
+    if kind == "pairs":
+        reciprocity = assembly.pair_reciprocity(done, scene_areas, value_type)
+        matrix, std = assembly.assemble_pairs(done, col_of, areas, value_type)
+        dropped = float(dropped_mass[recv].max()) if nr and threshold > 0.0 else 0.0
+    else:
+        matrix, std, lost = assembly.assemble_rows(done, col_of, nr, value_type)
+        if threshold > 0.0:
+            matrix, std, dropped = assembly.threshold_matrix(matrix, std, threshold)
     warn_zero_rows(scene, matrix, recv)
     names = [f"{scene.surface_names[scene.surface[k]]}[{k}]" for k in recv]
-    return FormFactors(
+    result = FormFactors(
         matrix.toarray() if dense else matrix,
         areas,
         names,
@@ -177,80 +207,16 @@ def form_factors(
         lost=lost,
         info={"options": opts, "threshold": threshold, "dropped": dropped},
     )
-
-
-def _stack_blocks(done: list, col_of: np.ndarray, nr: int):
-    """The blocks' CSR parts as one CSR over receiver indices (rows given once each)."""
-    counts = np.zeros(nr, dtype=np.int64)
-    if done:
-        counts[col_of[np.concatenate([b.rows for b in done])]] = np.concatenate([np.diff(b.indptr) for b in done])
-    indptr = np.zeros(nr + 1, dtype=np.int64)
-    np.cumsum(counts, out=indptr[1:])
-    idx = col_of[np.concatenate([b.indices for b in done])] if done else np.zeros(0, np.int64)
-    data = np.concatenate([b.data for b in done]) if done else np.zeros(0)
-    sd = np.concatenate([b.std for b in done]) if done else np.zeros(0)
-    return indptr, idx, data, sd
-
-
-def _canonical_csr(data, idx, indptr, nr):
-    # scipy keeps index arrays as given only when both have one dtype: int32 (idx's dtype)
-    # while the entries fit, so the big idx array is not copied
-    if idx.dtype == np.int32 and indptr[-1] <= np.iinfo(np.int32).max:
-        indptr = indptr.astype(np.int32)
-    m = sp.csr_array((data, idx, indptr), shape=(nr, nr))
-    m.has_sorted_indices = True
-    m.has_canonical_format = True
-    return m
-
-
-def _assemble_pairs(done, col_of, areas):
-    """Pair methods return the upper triangle of the symmetric G = A_i F_ij: the core mirrors
-    it and divides each row by its area in one pass (F_ij = G_ij / A_i, F_ji = G_ij / A_j)."""
-    nr = len(areas)
-    # column indices are int32 (checkpoints of older versions may hold int64: converted)
-    blocks = [(b.rows, b.indptr, np.asarray(b.indices, dtype=np.int32), b.data, b.std) for b in done]
-    indptr, idx, f, sd = _core.mirror_pairs(np.ascontiguousarray(areas, dtype=np.float64), col_of, blocks)
-    matrix = _canonical_csr(f, idx, indptr, nr)
-    std = _canonical_csr(sd, idx.copy(), indptr.copy(), nr) if sd is not None else None
-    return matrix, std
-
-
-def _assemble_rows(done, col_of, nr):
-    """Row methods return whole rows F_i. (with standard errors and lost fractions)."""
-    indptr, idx, v, sd = _stack_blocks(done, col_of, nr)
-    matrix = sp.csr_array((v, idx, indptr), shape=(nr, nr))
-    matrix.sort_indices()  # row methods return rows sorted; this only checks
-    std = lost = None
-    if sd.size and not np.all(np.isnan(sd)):
-        std = sp.csr_array((np.nan_to_num(sd), idx, indptr), shape=(nr, nr))
-        std.sort_indices()
-    if done and done[0].lost is not None:
-        lost = np.zeros(nr)
-        lost[col_of[np.concatenate([b.rows for b in done])]] = np.concatenate([b.lost for b in done])
-    return matrix, std, lost
+    if reciprocity is not None and not dense:
+        result._seed_measures(reciprocity_error=reciprocity)
+    return result
 
 
 def memory_estimate(n: int, dense: bool = False) -> tuple[int, int | None]:
-    """(bytes the result of an n-row run may need, bytes of memory available or None).
-
-    Sparse: the worst case, every pair nonzero, about 60 bytes per entry while the result is
-    assembled (row/column/value triplets for both halves of the symmetric G, then CSR).
-    Dense: the matrix plus one temporary."""
-    need = (8 * 2 if dense else 60) * n * n
-    try:
-        avail = os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
-    except (ValueError, OSError, AttributeError):
-        avail = None
-    return need, avail
-
-
-def _check_dense_fits(n: int) -> None:
-    need, avail = memory_estimate(n, dense=True)
-    if avail is not None and need > avail:
-        raise MemoryError(
-            f"a dense {n} x {n} matrix needs about {need / 2**30:.1f} GiB but {avail / 2**30:.1f} GiB are free; "
-            "use the sparse result (dense=False)"
-        )
+    """(bytes the result of an n-row run may need at its peak, bytes of memory available or
+    None): the worst case of :mod:`nusselt.budget` for a pair method without threshold."""
+    need = 2 * 8 * n * n if dense else budget.peak_bytes(n, kind="pairs")
+    return need, budget.available_memory()
 
 
 def _progress(enabled: bool, total: int, desc: str):

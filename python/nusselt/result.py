@@ -7,6 +7,8 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.sparse as sp
 
+from . import trust as _trust
+
 
 @dataclass
 class FormFactors:
@@ -52,28 +54,38 @@ class FormFactors:
         m = self.matrix
         return m.toarray() if sp.issparse(m) else np.asarray(m)
 
+    def _measures(self) -> dict:
+        """Closure, reciprocity and row-sum measures, computed once per matrix object
+        (:mod:`nusselt.trust`: one pass, no dense or transposed copy of the matrix)."""
+        cached = self.__dict__.get("_measures_cache")
+        out = cached[1] if cached is not None and cached[0] is self.matrix else {}
+        if "row_sums" not in out:
+            rs = _trust.row_sums(self.matrix)
+            out["row_sums"] = rs
+            out["closure_error"] = float(np.max(np.abs(rs - 1.0))) if len(rs) else 0.0
+        if "reciprocity_error" not in out:
+            out["reciprocity_error"] = _trust.reciprocity_error(self.matrix, self.areas)
+        self.__dict__["_measures_cache"] = (self.matrix, out)
+        return out
+
+    def _seed_measures(self, **known: float) -> None:
+        """Measures the assembly already knows for this matrix (e.g. the reciprocity error of a
+        pair method, from its blocks), so they are not recomputed from the matrix."""
+        self.__dict__["_measures_cache"] = (self.matrix, dict(known))
+
     @property
     def row_sums(self) -> np.ndarray:
-        return np.asarray(self.matrix.sum(axis=1)).ravel()
+        return self._measures()["row_sums"]
 
     @property
     def closure_error(self) -> float:
         """max_i |sum_j F_ij - 1| (meaningful for closed enclosures)."""
-        return float(np.max(np.abs(self.row_sums - 1.0))) if len(self) else 0.0
+        return self._measures()["closure_error"]
 
     @property
     def reciprocity_error(self) -> float:
         """max_ij |A_i F_ij - A_j F_ji| / max(A_i F_ij, A_j F_ji), over nonzero pairs."""
-        g = _as_sparse(self.matrix).multiply(self.areas[:, None]).tocsr()
-        gt = g.T.tocsr()
-        diff = abs(g - gt)
-        scale = g.maximum(gt)
-        diff, scale = diff.tocoo(), scale.tocsr()
-        if diff.nnz == 0:
-            return 0.0
-        den = np.asarray(scale[diff.row, diff.col]).ravel()
-        ok = den > 0
-        return float(np.max(diff.data[ok] / den[ok])) if ok.any() else 0.0
+        return self._measures()["reciprocity_error"]
 
     def by_surface(self) -> "FormFactors":
         """The same result aggregated to named surfaces with the form-factor algebra:

@@ -8,14 +8,14 @@ half-written output under the final name.
 
 from __future__ import annotations
 
-import contextlib
 import csv
 import json
 import os
-import tempfile
 
 import numpy as np
 import scipy.sparse as sp
+
+from .atomic import atomic_open, atomic_path
 
 #: Largest matrix written as a dense text table (CSV, View3D text) unless asked otherwise.
 MAX_DENSE_ROWS = 20000
@@ -24,20 +24,10 @@ NPZ_FORMAT = "nusselt-form-factors"
 NPZ_VERSION = 1
 
 
-@contextlib.contextmanager
 def _atomic(path: str, mode: str = "w"):
-    """Open a temporary file next to ``path``; rename it to ``path`` on success."""
-    path = os.fspath(path)
-    d = os.path.dirname(os.path.abspath(path))
-    fd, tmp = tempfile.mkstemp(prefix=".nusselt-", suffix=".tmp", dir=d)
-    try:
-        with os.fdopen(fd, mode, **({} if "b" in mode else {"encoding": "utf-8", "newline": ""})) as fh:
-            yield fh
-        os.replace(tmp, path)
-    except BaseException:
-        with contextlib.suppress(OSError):
-            os.unlink(tmp)
-        raise
+    """A temporary file next to ``path``, renamed to ``path`` durably on success (see
+    :mod:`nusselt.io.atomic`)."""
+    return atomic_open(path, mode)
 
 
 def _square(matrix, what: str = "matrix"):
@@ -90,13 +80,15 @@ def _check_size(path: str, n: int, max_rows: int | None, kind: str) -> None:
 
 # --- npz ----------------------------------------------------------------------------------
 
-def write_npz(path, matrix, areas, names, **extra_arrays) -> None:
-    """Store the form factors as an uncompressed ``.npz``.
+def write_npz(path, matrix, areas, names, *, compress: bool = False, **extra_arrays) -> None:
+    """Store the form factors as a ``.npz`` (zip-deflated with ``compress=True``).
 
     Keys: ``format``, ``version``, ``shape``, ``indptr``, ``indices``, ``data`` (the CSR
     parts of F), ``areas``, ``names`` and every extra array under its own name. A sparse
     extra (e.g. ``std_err``) is stored as ``<name>.indptr`` / ``.indices`` / ``.data`` /
     ``.shape``; a dict or string extra as JSON text. Read it back with :func:`load_npz`.
+    Index arrays are stored as int32 when they fit (else int64) and values as float32 or
+    float64 as given, so the file is no larger than the matrix in memory.
     """
     path = os.fspath(path)
     n = _square(matrix)
@@ -107,9 +99,9 @@ def write_npz(path, matrix, areas, names, **extra_arrays) -> None:
         "format": np.array(NPZ_FORMAT),
         "version": np.array(NPZ_VERSION),
         "shape": np.array(m.shape, dtype=np.int64),
-        "indptr": m.indptr.astype(np.int64),
-        "indices": m.indices.astype(np.int64),
-        "data": m.data.astype(np.float64),
+        "indptr": _index_array(m.indptr, m.nnz),
+        "indices": _index_array(m.indices, n),
+        "data": _value_array(m.data),
         "areas": _areas(areas, n),
         "names": np.array(_names(names, n), dtype=str),
     }
@@ -121,9 +113,9 @@ def write_npz(path, matrix, areas, names, **extra_arrays) -> None:
         if sp.issparse(val):
             e = sp.csr_array(val)
             arrays[f"{key}.shape"] = np.array(e.shape, dtype=np.int64)
-            arrays[f"{key}.indptr"] = e.indptr.astype(np.int64)
-            arrays[f"{key}.indices"] = e.indices.astype(np.int64)
-            arrays[f"{key}.data"] = e.data
+            arrays[f"{key}.indptr"] = _index_array(e.indptr, e.nnz)
+            arrays[f"{key}.indices"] = _index_array(e.indices, max(e.shape))
+            arrays[f"{key}.data"] = _value_array(e.data)
         elif isinstance(val, dict):
             arrays[f"{key}.json"] = np.array(json.dumps(val, default=str))
         else:
@@ -131,8 +123,19 @@ def write_npz(path, matrix, areas, names, **extra_arrays) -> None:
             if a.dtype == object:
                 a = np.array([str(x) for x in a.ravel()], dtype=str).reshape(a.shape)
             arrays[key] = a
+    save = np.savez_compressed if compress else np.savez
     with _atomic(path, "wb") as fh:
-        np.savez(fh, **arrays)
+        save(fh, **arrays)
+
+
+def _index_array(a: np.ndarray, largest: int) -> np.ndarray:
+    """int32 when every index (at most ``largest``) fits, else int64; no copy if already so."""
+    dtype = np.int32 if largest <= np.iinfo(np.int32).max else np.int64
+    return np.asarray(a, dtype=dtype)
+
+
+def _value_array(a: np.ndarray) -> np.ndarray:
+    return a if a.dtype in (np.float32, np.float64) else np.asarray(a, dtype=np.float64)
 
 
 def load_npz(path) -> dict:
@@ -318,16 +321,8 @@ def write_vtu(path, polygons_vertices, faces, cell_data: dict | None = None) -> 
         for k, a in data.items():
             block_data[k].append(a[s:e])
     mesh = meshio.Mesh(pts, cells, cell_data=block_data)
-    d = os.path.dirname(os.path.abspath(path))
-    fd, tmp = tempfile.mkstemp(prefix=".nusselt-", suffix=".vtu", dir=d)
-    os.close(fd)
-    try:
+    with atomic_path(path) as tmp:
         meshio.write(tmp, mesh, file_format="vtu")
-        os.replace(tmp, path)
-    except BaseException:
-        with contextlib.suppress(OSError):
-            os.unlink(tmp)
-        raise
 
 
 # --- dispatch -----------------------------------------------------------------------------
@@ -359,7 +354,7 @@ def _get(result, key, default=None):
 
 
 def write_result(path, result, *, format: str | None = None, scene=None, to_surface: str | None = None,
-                 zone_name: str | None = None, precision: int | None = None) -> None:
+                 zone_name: str | None = None, precision: int | None = None, compress: bool = False) -> None:
     """Write a form-factor result in the format given by ``format`` or the extension:
     ``.npz`` (sparse, everything), ``.csv``, ``.txt`` (View3D text output), ``.idf``
     (EnergyPlus), ``.vtu`` (the scene's polygons with per-cell data; needs ``scene``).
@@ -382,6 +377,7 @@ def write_result(path, result, *, format: str | None = None, scene=None, to_surf
       result, -1 for none), ``row_sum``, and ``F_to_<name>`` when ``to_surface`` is given.
     * ``precision``: CSV significant digits / View3D decimals (default: exact for CSV,
       6 decimals for View3D as View3D writes).
+    * ``compress``: ``.npz`` only, zip-deflated (smaller file, slower to write and read).
     """
     path = os.fspath(path)
     fmt = result_format(path, format)
@@ -409,7 +405,7 @@ def write_result(path, result, *, format: str | None = None, scene=None, to_surf
             extra["info"] = dict(info)
         if scene is not None and getattr(scene, "source", None):
             extra["scene"] = np.array(str(scene.source))
-        write_npz(path, matrix, areas, names, **extra)
+        write_npz(path, matrix, areas, names, compress=compress, **extra)
     elif fmt == "csv":
         write_csv(path, matrix, names, precision=precision)
     elif fmt == "view3d":
