@@ -279,6 +279,10 @@ def build_parser() -> argparse.ArgumentParser:
     ms = sub.add_parser("methods", help="list the methods and their options",
                         description="Lists every method with its options and defaults.")
     ms.set_defaults(func=cmd_methods)
+
+    from .cli_sensors import add_sensors_parser
+
+    add_sensors_parser(sub)
     return p
 
 
