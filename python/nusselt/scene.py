@@ -9,6 +9,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from . import _core
+from .io.scenedata import NusseltWarning
 from .io.topology import ORIENTS, orient_faces
 from .overlaps import coplanar_overlaps
 
@@ -17,10 +18,6 @@ PLANARITY_TOL = 1e-6
 
 # The core's messages for faces without area (crates/nusselt-core/src/geometry.rs).
 _DEGENERATE = ("has zero area", "needs at least 3 distinct vertices")
-
-
-class NusseltWarning(UserWarning):
-    """Base of the warnings nusselt gives about a scene or a result."""
 
 
 class RepairWarning(NusseltWarning):

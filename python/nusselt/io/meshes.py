@@ -23,7 +23,7 @@ import warnings
 
 import numpy as np
 
-from .scenedata import SceneData, check_readable, parse_error
+from .scenedata import SceneData, SkippedCellsWarning, check_readable, parse_error
 
 _SURFACE_TYPES = {"triangle": 3, "quad": 4, "polygon": None,
                   # Second-order cells: their first 3 or 4 nodes are the corners.
@@ -81,11 +81,41 @@ def _stl_solid_names(path: str, ntri: int) -> list[str] | None:
     return names
 
 
+def _check_stl(path: str) -> None:
+    """Refuse an STL file that was cut short: a binary one shorter than its header's
+    triangle count says (84 + 50 n bytes), an ASCII one whose last line is not ``endsolid``
+    (meshio reads the complete facets before the cut and says nothing)."""
+    size = os.path.getsize(path)
+    with open(path, "rb") as fh:
+        head = fh.read(84)
+        n = int.from_bytes(head[80:84], "little") if len(head) >= 84 else -1
+        if n >= 0 and 84 + 50 * n == size:
+            return  # a complete binary file (its header may start with "solid")
+        if not head.lstrip().lower().startswith(b"solid"):
+            if n < 0:
+                raise parse_error(path, None, f"not an STL file: a binary STL needs an 84-byte header, "
+                                              f"the file has {size} bytes")
+            if size < 84 + 50 * n:
+                raise parse_error(path, None, f"truncated: the binary STL header declares {n} triangles "
+                                              f"({84 + 50 * n} bytes), the file has {size} bytes "
+                                              f"({(size - 84) // 50} whole triangles)")
+            return
+        fh.seek(max(0, size - 4096))
+        tail = fh.read().splitlines()
+    last = next((t.strip() for t in reversed(tail) if t.strip()), b"")
+    if not last.lower().startswith(b"endsolid"):
+        raise parse_error(path, None, "truncated: the ASCII STL file does not end with 'endsolid' (its last line "
+                                      f"is {last[:40].decode('utf-8', 'replace')!r}); the facets after the cut "
+                                      "are missing")
+
+
 def read_mesh(path: str, format: str | None = None) -> SceneData:
     """Read any surface-mesh format meshio reads. ``format`` is a meshio format name
     (``"gmsh"``, ``"stl"``, ``"vtu"`` ...) when the extension does not tell."""
     path = str(path)
     check_readable(path)
+    if (format or "").lower() == "stl" or (format is None and path.lower().endswith(".stl")):
+        _check_stl(path)
     import meshio
 
     try:
@@ -161,6 +191,11 @@ def read_mesh(path: str, format: str | None = None) -> SceneData:
             j = int(f.max() if f.max() >= npts else f.min())
             raise parse_error(path, origin[k], f"refers to point {j}, but only {npts} points are defined")
 
+    if skipped or volume_types:
+        kinds = ", ".join(f"{n} {t}" for t, n in {**skipped, **volume_types}.items())
+        warnings.warn(f"{path}: skipped {sum(skipped.values()) + sum(volume_types.values())} cells that are not "
+                      f"surfaces ({kinds}); read {len(faces)} surface cells (triangles, quads, polygons)",
+                      SkippedCellsWarning, stacklevel=3)
     block_of = np.array(block_of)
     index_in_block = np.array(index_in_block)
     names, surface, how = _surface_names(path, mesh, block_of, index_in_block, len(faces))

@@ -8,6 +8,15 @@ from dataclasses import dataclass, field
 import numpy as np
 
 
+class NusseltWarning(UserWarning):
+    """Base of the warnings nusselt gives about a scene, a file or a result."""
+
+
+class SkippedCellsWarning(NusseltWarning):
+    """A mesh file held cells that are not surfaces (lines, points, volumes, unknown types);
+    they were skipped and counted."""
+
+
 def parse_error(source: str, where: str | None, problem: str) -> ValueError:
     """A one-line ``ValueError``: ``"<file>, <where>: <problem>"``.
 

@@ -134,12 +134,14 @@ def read_view3d(path: str) -> SceneData:
 
     # Records up to the end-of-data mark, with their line numbers.
     records: list[tuple[int, str, list[str]]] = []
+    ended = False  # an end-of-data record was seen
     for no, line in enumerate(lines, start=1):
         text = _strip_comment(line)
         if not text:
             continue
         c = text[0].upper()
         if c in ("E", "*"):
+            ended = True
             break
         records.append((no, text, text.split()))
     if not records:
@@ -290,7 +292,15 @@ def read_view3d(path: str) -> SceneData:
             s.coords = xyz[np.array(s.verts) - 1]
 
     _check_references(surfaces, err)
-    return _build(path, geometry, title, controls, surfaces, err)
+    data = _build(path, geometry, title, controls, surfaces, err)
+    if not ended:
+        # View3D input ends with an end-of-data record; without it the file was cut short
+        # (a file cut at a record boundary otherwise loads silently with surfaces missing)
+        last = records[-1][0]
+        raise err(None, f"the file ends without its end-of-data record ('E' or 'End of data') after "
+                        f"{len(surfaces)} surfaces (last record on line {last}): it looks truncated; "
+                        "if it is complete, add a last line 'End of data'")
+    return data
 
 
 def _shape_coords(shape: str, nums: list[float]) -> np.ndarray:
