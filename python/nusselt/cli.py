@@ -118,7 +118,7 @@ def cmd_matrix(args) -> int:
     import os
     import shutil
 
-    from .api import form_factors, memory_estimate
+    from .api import form_factors
     from .io import write_result
     from .io.writers import MAX_DENSE_ROWS, _check_size, result_format
     from . import zones
@@ -138,14 +138,21 @@ def cmd_matrix(args) -> int:
     partial = args.output + ".partial"
     if os.path.exists(partial) and not args.resume:
         raise ValueError(f"{partial} holds an interrupted run: add --resume to continue it, or remove it")
-    need, avail = memory_estimate(n)
+    from . import budget
+
+    dtype = "float32" if args.float32 else "float64"
+    method_info, _ = resolve(args.method, dict(opts))
+    sizes = {"kind": method_info.kind, "threshold": args.threshold, "dtype": dtype,
+             "with_std": "seed" in method_info.options}
+    need, avail = budget.peak_bytes(n, **sizes), budget.available_memory()
     print(f"{args.scene}: {len(scene)} polygons, {n} with rows, {len(scene.surface_names)} surfaces; "
           f"method {args.method}", file=sys.stderr)
     print(f"memory: at most {_gib(need)} for the sparse result (if every pair exchanged radiation)"
           + (f", {_gib(avail)} available" if avail else ""), file=sys.stderr)
-    if avail and need > avail:
-        print("nusselt: warning: the result may not fit in memory if most pairs see each other; "
-              "--threshold drops small entries", file=sys.stderr)
+    budget.check_disk(args.output, n, **sizes)  # refused before any work; memory: by form_factors
+    run_opts = {"dtype": dtype}
+    if args.dask:
+        run_opts["client"] = _dask_client(args.dask)
     compute = form_factors
     zone_opts = {}
     if zones.scene_zones(scene):
@@ -164,6 +171,7 @@ def cmd_matrix(args) -> int:
             resume=args.resume,
             block_size=args.block_size,
             threshold=args.threshold,
+            **run_opts,
             **zone_opts,
             **opts,
         )
@@ -179,11 +187,31 @@ def cmd_matrix(args) -> int:
         res = res.by_surface()
         res.info["patch_level"] = patch_level
     res.info.update(res.trust())
-    write_result(args.output, res, scene=scene, to_surface=args.to_surface, zone_name=args.zone_name)
+    write_result(args.output, res, scene=scene, to_surface=args.to_surface, zone_name=args.zone_name,
+                 compress=args.compress)
     shutil.rmtree(partial, ignore_errors=True)
     print(res.summary())
     print(f"written {args.output}")
     return 0
+
+
+def _dask_client(address: str):
+    """A dask.distributed Client: ``local`` or ``local:N`` starts a LocalCluster of N worker
+    processes here; a path to a scheduler file (``dask scheduler --scheduler-file``, SLURM
+    jobs) or a scheduler address (``tcp://host:8786``) connects to a running cluster."""
+    import atexit
+    import os
+
+    from .distributed import connect
+
+    if address == "local" or address.startswith("local:"):
+        client = connect(local_workers=int(address.split(":", 1)[1]) if ":" in address else None)
+    elif address.endswith(".json") and os.path.exists(address):
+        client = connect(scheduler_file=address)
+    else:
+        client = connect(address=address)
+    atexit.register(client.close)
+    return client
 
 
 def _gib(b: float) -> str:
@@ -269,6 +297,13 @@ def build_parser() -> argparse.ArgumentParser:
                    help="continue an interrupted run from OUTPUT.partial (finished blocks are kept)")
     m.add_argument("--block-size", type=int, default=2_000_000, metavar="N",
                    help="work per checkpointed block: pairs (pair methods) or row entries (row methods)")
+    m.add_argument("--float32", action="store_true",
+                   help="store F as float32 (a third less memory and disk; about 7 significant digits)")
+    m.add_argument("--compress", action="store_true", help=".npz output: zip-deflated (smaller, slower)")
+    m.add_argument("--dask", metavar="SCHEDULER",
+                   help="run the row blocks on a Dask cluster: a scheduler address (tcp://host:8786), a "
+                   "scheduler file (.json), or local[:N] for N local worker processes; blocks go to "
+                   "OUTPUT.partial as they finish, so --resume works as for a local run")
     m.add_argument("--to-surface", metavar="NAME", help="for .vtu output: also store F from every patch to NAME")
     m.add_argument("--zone-name", metavar="NAME",
                    help="EnergyPlus models (.idf, .epJSON): compute and write only zone NAME; other scenes: the "
