@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import sys
+import warnings
 from importlib import resources
 
 from . import __version__
@@ -129,9 +130,17 @@ def cmd_matrix(args) -> int:
     fmt = result_format(args.output)  # an unknown extension fails before any work
     opts = _parse_options(args.option)
     resolve(args.method, dict(opts))  # an unknown method or option fails before any work
-    scene = Scene.from_file(args.scene)
-    if args.refine:
-        scene = scene.refined(args.refine)
+    if args.to_surface is not None and fmt != "vtu":
+        raise ValueError(f"--to-surface is for .vtu output (F from every patch to a surface, for ParaView); "
+                         f"{args.output} is .{fmt}: every entry is there already")
+    scene = Scene.from_file(args.scene, orient=args.orient, repair=args.repair)
+    _report_orientation(scene)
+    if args.two_sided:
+        scene = scene.with_two_sided(_faces_of_surfaces(scene, args.two_sided, "--two-sided"))
+    if args.refine is not None:
+        scene = scene.refined(args.refine)  # 0 or negative is refused there
+    if args.to_surface is not None and args.to_surface not in scene.surface_names:
+        _faces_of_surfaces(scene, [args.to_surface], "--to-surface")  # a typo fails before any work
     n = len(scene.receivers)
     if fmt == "csv" and not args.surfaces:
         _check_size(args.output, n, MAX_DENSE_ROWS, "CSV")  # the writer's check, before any work
@@ -212,6 +221,26 @@ def _dask_client(address: str):
         client = connect(address=address)
     atexit.register(client.close)
     return client
+
+
+def _report_orientation(scene) -> None:
+    """Say on stderr which faces orient turned (a room exported as a solid, say)."""
+    info = scene.meta.get("orient", {})
+    if info.get("flipped"):
+        print(f"{scene.source}: turned {len(info['flipped'])} faces of a closed shell facing outward to face "
+              f"inward (--orient {info['orient']}; --orient as-is keeps them)", file=sys.stderr)
+
+
+def _faces_of_surfaces(scene, names: list[str], option: str):
+    """Face indices of the named surfaces; an unknown name is an error listing the names."""
+    import numpy as np
+
+    bad = [n for n in names if n not in scene.surface_names]
+    if bad:
+        shown = ", ".join(scene.surface_names[:10]) + (" ..." if len(scene.surface_names) > 10 else "")
+        raise ValueError(f"{option}: {scene.source} has no surface named {bad[0]!r} (surfaces: {shown})")
+    idx = [scene.surface_names.index(n) for n in names]
+    return np.flatnonzero(np.isin(scene.surface, idx))
 
 
 def _gib(b: float) -> str:
@@ -304,6 +333,15 @@ def build_parser() -> argparse.ArgumentParser:
                    help="run the row blocks on a Dask cluster: a scheduler address (tcp://host:8786), a "
                    "scheduler file (.json), or local[:N] for N local worker processes; blocks go to "
                    "OUTPUT.partial as they finish, so --resume works as for a local run")
+    m.add_argument("--orient", choices=["auto", "inward", "outward", "as-is"], default="auto",
+                   help="how closed shells of faces are turned: auto (default) turns a closed shell facing "
+                   "outward that holds everything else (a room exported as a solid) inward and leaves the "
+                   "rest; inward / outward turn every closed shell; as-is keeps the file's order")
+    m.add_argument("--repair", action="store_true",
+                   help="drop faces of zero area and faces duplicating another (counted in a warning) "
+                   "instead of refusing the file")
+    m.add_argument("--two-sided", action="append", metavar="SURFACE",
+                   help="faces of this named surface emit and receive on both sides (repeatable)")
     m.add_argument("--to-surface", metavar="NAME", help="for .vtu output: also store F from every patch to NAME")
     m.add_argument("--zone-name", metavar="NAME",
                    help="EnergyPlus models (.idf, .epJSON): compute and write only zone NAME; other scenes: the "
@@ -321,15 +359,30 @@ def build_parser() -> argparse.ArgumentParser:
     return p
 
 
+def _show_warning(message, category, filename, lineno, file=None, line=None) -> None:
+    # one line on stderr, as the errors are
+    print(f"nusselt: warning: {' '.join(str(message).split())}", file=sys.stderr)
+
+
 def main(argv: list[str] | None = None) -> int:
-    args = build_parser().parse_args(argv)
+    parser = build_parser()
+    if not (sys.argv[1:] if argv is None else argv):
+        parser.print_help()  # no command: the help, not an argparse error
+        return 2
+    args = parser.parse_args(argv)
     try:
-        return args.func(args)
+        with warnings.catch_warnings():
+            warnings.simplefilter("always")
+            warnings.showwarning = _show_warning
+            return args.func(args)
     except KeyboardInterrupt:
         print("nusselt: interrupted", file=sys.stderr)
         return 130
     except (ValueError, TypeError, OSError, MemoryError) as e:
         msg = " ".join(str(e).split()) or type(e).__name__  # one line
+        if isinstance(e, MemoryError):
+            scene = getattr(args, "scene", None)
+            msg = f"out of memory{' with ' + scene if scene and scene not in msg else ''}: {msg}"
         print(f"nusselt: error: {msg}", file=sys.stderr)
         return 2
 

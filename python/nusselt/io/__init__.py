@@ -17,6 +17,7 @@ import os
 
 from .energyplus import read_energyplus, read_user_view_factors, write_user_view_factors
 from .meshes import read_mesh
+from .topology import orient_faces
 from .obj import read_obj
 from .scenedata import SceneData
 from .view3d import read_view3d, read_view3d_output
@@ -34,7 +35,7 @@ from .writers import (
 _OWN = {".obj": "obj", ".vs3": "view3d", ".idf": "energyplus", ".epjson": "energyplus"}
 
 
-def read_scene(path, format: str | None = None) -> SceneData:
+def _read_by_format(path, format: str | None = None) -> SceneData:
     """Read a scene file: ``.obj`` (own reader: objects/groups become surfaces), ``.vs3``
     (View3D), ``.idf`` / ``.epJSON`` (EnergyPlus zone geometry), anything else through meshio.
     ``format`` overrides the extension: ``"obj"``, ``"view3d"`` (or ``"vs3"``),
@@ -59,6 +60,25 @@ def read_scene(path, format: str | None = None) -> SceneData:
         return read_energyplus(path)
     return read_mesh(path)
 
+
+
+def read_scene(path, format: str | None = None, orient: str = "as-is") -> SceneData:
+    """Read a scene file (see :func:`_read_by_format` for the formats and ``format``).
+
+    ``orient`` turns closed shells as :func:`nusselt.io.topology.orient_faces` says
+    (``"as-is"``: faces as the file lists them; ``Scene.from_file`` defaults to ``"auto"``).
+    Running out of memory while reading is a ``MemoryError`` naming the file."""
+    path = os.fspath(path)
+    try:
+        data = _read_by_format(path, format)
+    except MemoryError as e:
+        size = os.path.getsize(path) if os.path.exists(path) else 0
+        raise MemoryError(f"{path}: not enough memory to read this {size / 2**20:.0f} MiB file"
+                          + (f" ({e})" if str(e) else "")) from None
+    if orient != "as-is":
+        data.faces, report = orient_faces(data.vertices, data.faces, orient)
+        data.meta["orient"] = {"orient": orient, "flipped": report["flipped"].tolist()}
+    return data
 
 __all__ = [
     "SceneData",

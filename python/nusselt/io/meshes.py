@@ -142,6 +142,8 @@ def read_mesh(path: str, format: str | None = None) -> SceneData:
         raise parse_error(path, None, f"cannot read the mesh ({type(e).__name__}: {_one_line(e)})") from None
 
     pts = np.asarray(mesh.points, dtype=np.float64)
+    if pts.size == 0:
+        raise parse_error(path, None, "the mesh has no points (no triangles, quads or polygons)")
     if pts.ndim != 2 or pts.shape[1] not in (2, 3):
         raise parse_error(path, None, f"points have shape {pts.shape}, expected (n, 3)")
     if pts.shape[1] == 2:
