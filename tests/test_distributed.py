@@ -1,23 +1,24 @@
 """Distributed runs on a dask.distributed LocalCluster: the same matrix as a local run, the
 scene built once per worker, and no finished block lost when a worker is killed mid-run."""
 
+import logging
 import os
 
 import numpy as np
-import pytest
-
 import nusselt
 import nusselt.blocks
+import pytest
 from nusselt import checkpoint as ck
 
 distributed = pytest.importorskip("distributed")
 
-from conftest import cube_faces  # noqa: E402
+from conftest import cube_faces
 
 
 @pytest.fixture(scope="module")
 def client():
-    c = distributed.Client(n_workers=2, processes=True, threads_per_worker=1, dashboard_address=None)
+    c = distributed.Client(n_workers=2, processes=True, threads_per_worker=1, dashboard_address=None,
+                           silence_logs=logging.ERROR)
     yield c
     c.close()
 
@@ -97,13 +98,11 @@ def test_cli_dask_local(tmp_path):
     from nusselt.cli import main
 
     obj = tmp_path / "cube.obj"
-    polys, which = cube_faces(2)
+    polys, _ = cube_faces(2)
     with open(obj, "w") as fh:
         for p in polys:
-            for v in p:
-                fh.write(f"v {v[0]} {v[1]} {v[2]}\n")
-        for k in range(len(polys)):
-            fh.write("f " + " ".join(str(4 * k + i + 1) for i in range(4)) + "\n")
+            fh.writelines(f"v {v[0]} {v[1]} {v[2]}\n" for v in p)
+        fh.writelines("f " + " ".join(str(4 * k + i + 1) for i in range(4)) + "\n" for k in range(len(polys)))
     out_local, out_far = tmp_path / "a.npz", tmp_path / "b.npz"
     assert main(["matrix", str(obj), "-o", str(out_local), "-q", "--block-size", "50"]) == 0
     assert main(["matrix", str(obj), "-o", str(out_far), "-q", "--block-size", "50", "--dask", "local:1"]) == 0
