@@ -1,0 +1,120 @@
+"""Lean assembly and trust measures: the same numbers as the straightforward dense formulas,
+float32 and compressed output, and refusal of runs that cannot fit (issue 21 item 1)."""
+
+import numpy as np
+import pytest
+import scipy.sparse as sp
+
+import nusselt
+from nusselt import assembly, budget, trust
+
+from conftest import cube_faces
+
+
+def _cube(n=4):
+    polys, which = cube_faces(n)
+    return nusselt.Scene.from_polygons(polys, surface=[str(w) for w in which])
+
+
+def _dense_reciprocity(f, a):
+    g = f * a[:, None]
+    den = np.maximum(np.abs(g), np.abs(g.T))
+    ok = den > 0
+    return float(np.max(np.abs(g - g.T)[ok] / den[ok])) if ok.any() else 0.0
+
+
+def test_banded_reciprocity_equals_the_dense_formula(monkeypatch):
+    rng = np.random.default_rng(3)
+    n = 40
+    f = rng.random((n, n)) * (rng.random((n, n)) < 0.3)
+    f[3, 7], f[7, 3] = 0.2, 0.0  # an entry present in one direction only: error 1
+    a = rng.random(n) + 0.5
+    monkeypatch.setattr(trust, "BAND_ENTRIES", 37)  # many bands, of a few rows each
+    assert trust.reciprocity_error(sp.csr_array(f), a) == _dense_reciprocity(f, a) == 1.0
+    f[3, 7] = 0.0
+    sym = (f + f.T) / a[:, None]  # A_i F_ij symmetric up to rounding: a symmetric pattern
+    assert trust.reciprocity_error(sp.csr_array(sym), a) == pytest.approx(_dense_reciprocity(sym, a), abs=0)
+
+
+@pytest.mark.parametrize("dtype", [np.float64, np.float32])
+def test_pair_reciprocity_from_blocks_equals_the_measure_of_the_matrix(dtype):
+    polys, _ = cube_faces(3)
+    scene = nusselt.Scene.from_polygons([p * [1.0, 1.7, 0.6] for p in polys])  # unequal areas
+    res = nusselt.form_factors(scene, block_size=100, dtype=dtype)
+    seeded = res.reciprocity_error  # from the blocks
+    fresh = trust.reciprocity_error(res.matrix, res.areas)
+    assert seeded == fresh == _dense_reciprocity(res.dense().astype(np.float64), res.areas)
+    assert res.matrix.dtype == dtype
+
+
+def test_float32_values_are_the_float64_ones_rounded():
+    scene = _cube(3)
+    a = nusselt.form_factors(scene)
+    b = nusselt.form_factors(scene, dtype=np.float32)
+    assert b.matrix.dtype == np.float32
+    assert np.array_equal(a.matrix.indices, b.matrix.indices)
+    assert np.array_equal(a.matrix.data.astype(np.float32), b.matrix.data)
+    with pytest.raises(ValueError, match="dtype"):
+        nusselt.form_factors(scene, dtype=np.int32)
+
+
+def test_streamed_threshold_equals_thresholding_the_full_matrix():
+    scene = _cube(4)
+    t = 0.004
+    full = nusselt.form_factors(scene).dense()
+    res = nusselt.form_factors(scene, threshold=t, block_size=500)
+    small = (full < t) & (full.T < t)
+    assert np.array_equal(res.dense(), np.where(small, 0.0, full))
+    assert res.info["dropped"] == pytest.approx(np.max((full * small).sum(axis=1)), rel=1e-12)
+
+
+def test_row_blocks_assemble_to_the_same_matrix_whatever_the_block_size():
+    scene = _cube(3)
+    a = nusselt.form_factors(scene, method="hemicube", block_size=10**9)
+    b = nusselt.form_factors(scene, method="hemicube", block_size=60)
+    assert np.array_equal(a.matrix.indptr, b.matrix.indptr) and np.array_equal(a.matrix.data, b.matrix.data)
+    assert a.matrix.indices.dtype == np.int32
+
+
+def test_compressed_npz_reads_back_identical_and_smaller(tmp_path):
+    res = nusselt.form_factors(_cube(4))
+    nusselt.io.write_result(tmp_path / "a.npz", res)
+    nusselt.io.write_result(tmp_path / "b.npz", res, compress=True)
+    a, b = nusselt.io.load_npz(tmp_path / "a.npz"), nusselt.io.load_npz(tmp_path / "b.npz")
+    assert (a["matrix"] != b["matrix"]).nnz == 0 and np.array_equal(a["matrix"].data, res.matrix.data)
+    assert (tmp_path / "b.npz").stat().st_size < 0.8 * (tmp_path / "a.npz").stat().st_size
+
+
+@pytest.mark.filterwarnings("ignore:.*rows are 0")  # a large threshold empties rows, as asked
+def test_threshold_bounds_the_entries_it_keeps():
+    """At most 2.2 n / t entries survive a threshold t (row sums <= 1): the bound the memory
+    check relies on, checked on a scene where every pair sees the other."""
+    scene = _cube(4)
+    for t in (0.002, 0.01, 0.05):
+        res = nusselt.form_factors(scene, threshold=t)
+        assert res.matrix.nnz <= budget.max_entries(len(res), t)
+
+
+def test_a_run_that_cannot_fit_is_refused_before_any_work(monkeypatch):
+    scene = _cube(2)
+    monkeypatch.setattr(budget, "available_memory", lambda: 10_000)
+    calls = []
+    with monkeypatch.context() as m:
+        m.setattr(assembly, "assemble_pairs", lambda *a, **k: calls.append(1))
+        with pytest.raises(MemoryError) as e:
+            nusselt.form_factors(scene, progress=False)
+    msg = str(e.value)
+    assert "24 receivers" in msg and "threshold" in msg and "float32" in msg and not calls
+    nusselt.form_factors(scene, check_memory=False)  # the caller knows better: runs
+
+
+def test_cli_refuses_a_run_that_cannot_fit_with_exit_2(tmp_path, monkeypatch, capsys):
+    from nusselt.cli import main
+
+    obj = tmp_path / "sq.obj"
+    obj.write_text("v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 0 1 1\nv 1 1 1\nv 1 0 1\nf 1 2 3 4\nf 5 6 7 8\n")
+    monkeypatch.setattr(budget, "available_memory", lambda: 1)
+    assert main(["matrix", str(obj), "-o", str(tmp_path / "x.npz"), "-q"]) == 2
+    err = capsys.readouterr().err
+    assert "threshold" in err and "float32" in err and "Traceback" not in err
+    assert not (tmp_path / "x.npz.partial").exists()
