@@ -282,3 +282,42 @@ def test_two_sided_fin_in_a_closed_room_keeps_closure():
     assert res.closure_error < 1e-7 and res.reciprocity_error < 1e-12
     with pytest.raises(ValueError, match="obstruction-only and two-sided"):
         nusselt.Scene.from_polygons(polys + [fin], two_sided=[24], obstruction=[False] * 24 + [True])
+
+
+def test_overlap_search_finds_what_brute_force_finds():
+    # Random rectangles and triangles in the plane z = 0 (plus a few in z = 1 facing down):
+    # the grid search reports exactly the pairs an all-pairs clipping test finds.
+    from nusselt.io import _planar
+    from nusselt.overlaps import coplanar_overlaps
+
+    rng = np.random.default_rng(3)
+    polys = []
+    for _ in range(120):
+        x, y = rng.uniform(0, 10, 2)
+        w, h = rng.uniform(0.05, 1.5, 2) * (10.0 if rng.random() < 0.03 else 1.0)
+        polys.append(rect(x, x + w, y, y + h) if rng.random() < 0.5
+                     else np.array([[x, y, 0], [x + w, y, 0], [x, y + h, 0]], float))
+    polys += [rect(0, 10, 0, 10, 1.0, flip=True)]
+    v = np.concatenate(polys)
+    starts = np.cumsum([0] + [len(p) for p in polys])
+    faces = [np.arange(starts[k], starts[k + 1]) for k in range(len(polys))]
+    normals = np.array([_planar.newell_normal(p) / _planar.polygon_area_3d(p) for p in polys])
+    centroids = np.array([p.mean(axis=0) for p in polys])
+
+    def fan(k):
+        m = len(faces[k])
+        return [(0, i, i + 1) for i in range(1, m - 1)]
+
+    got = {(i, j): a for i, j, a in coplanar_overlaps(v, faces, normals, centroids, fan, np.arange(len(polys)))}
+    want = {}
+    for i in range(len(polys)):
+        for j in range(i + 1, len(polys)):
+            if normals[i] @ normals[j] < 0.99:
+                continue
+            a = _planar.convex_intersection_area(polys[i][:, :2], polys[j][:, :2])
+            if a > 1e-12:
+                want[(i, j)] = a
+    assert len(want) > 20
+    assert set(got) == set(want)
+    for k in want:
+        assert got[k] == pytest.approx(want[k], rel=1e-12)

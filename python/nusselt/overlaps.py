@@ -8,7 +8,7 @@ without comparing every pair:
    offset n . c and split where the offset jumps by more than 1e-8 of the scene's size;
 2. within a plane group, faces are triangulated and their triangles' 2-D bounding boxes,
    shrunk by 1e-9 of the scene's size so that neighbours sharing an edge do not count,
-   are swept along x;
+   are put in a uniform grid; boxes sharing a cell are candidates;
 3. candidate triangle pairs are tested for an interior overlap by the separating-axis
    theorem (two convex polygons overlap with positive area iff no edge normal of either
    separates them by more than the tolerance), all in numpy.
@@ -27,18 +27,52 @@ from .io import _planar
 
 
 def _pairs_in_sweep(lo: np.ndarray, hi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Index pairs (a, b) of boxes whose [lo, hi] intervals overlap in x and y."""
-    order = np.argsort(lo[:, 0], kind="stable")
-    xs = lo[order, 0]
-    end = np.searchsorted(xs, hi[order, 0], side="left")
-    start = np.arange(len(order)) + 1
+    """Index pairs (a, b), a < b, of boxes whose [lo, hi] intervals overlap in x and y.
+
+    Boxes go into a uniform grid of cells the size of the median box; pairs are taken
+    within a cell (a grid of n patches costs O(n), where a sweep along one axis would
+    cost O(n^1.5)). Boxes spanning more than 16 cells are tested against all boxes."""
+    n = len(lo)
+    ext = (hi - lo).max(axis=1)
+    h = float(np.median(ext))
+    if not h > 0:
+        h = float(np.max(ext)) or 1.0
+    origin = lo.min(axis=0)
+    i0 = np.floor((lo - origin) / h).astype(np.int64)
+    i1 = np.floor((np.maximum(hi, lo) - origin) / h).astype(np.int64)
+    span = i1 - i0 + 1
+    cells = span[:, 0] * span[:, 1]
+    big = np.flatnonzero(cells > 16)
+    small = np.flatnonzero(cells <= 16)
+    pa, pb = [], []
+    for k in big:  # few: each against every box
+        hit = np.flatnonzero((lo[:, 0] < hi[k, 0]) & (lo[k, 0] < hi[:, 0]) & (lo[:, 1] < hi[k, 1]) & (lo[k, 1] < hi[:, 1]))
+        hit = hit[hit != k]
+        pa.append(np.minimum(hit, k))
+        pb.append(np.maximum(hit, k))
+    # every small box in each cell it covers
+    c = cells[small]
+    box = np.repeat(small, c)
+    local = np.arange(c.sum()) - np.repeat(np.cumsum(c) - c, c)
+    w = np.repeat(span[small, 0], c)
+    cx = np.repeat(i0[small, 0], c) + local % w
+    cy = np.repeat(i0[small, 1], c) + local // w
+    key = cx * (int(cy.max() if len(cy) else 0) + 1) + cy
+    order = np.argsort(key, kind="stable")
+    key, box = key[order], box[order]
+    end = np.searchsorted(key, key, side="right")
+    start = np.arange(len(key)) + 1
     cnt = np.maximum(end - start, 0)
-    a = np.repeat(np.arange(len(order)), cnt)
+    a = np.repeat(np.arange(len(key)), cnt)
     offs = np.repeat(np.cumsum(cnt) - cnt, cnt)
     b = np.repeat(start, cnt) + (np.arange(cnt.sum()) - offs)
-    a, b = order[a], order[b]
-    keep = (lo[a, 1] < hi[b, 1]) & (lo[b, 1] < hi[a, 1])
-    return a[keep], b[keep]
+    a, b = box[a], box[b]
+    pa.append(np.minimum(a, b))
+    pb.append(np.maximum(a, b))
+    a, b = np.concatenate(pa), np.concatenate(pb)
+    keep = (a != b) & (lo[a, 0] < hi[b, 0]) & (lo[b, 0] < hi[a, 0]) & (lo[a, 1] < hi[b, 1]) & (lo[b, 1] < hi[a, 1])
+    uniq = np.unique(a[keep] * n + b[keep])
+    return uniq // n, uniq % n
 
 
 def _sat_overlap(ta: np.ndarray, tb: np.ndarray, eps: float) -> np.ndarray:
@@ -88,8 +122,12 @@ def coplanar_overlaps(
         frame_u = np.cross(nrm, [1.0, 0.0, 0.0] if abs(nrm[0]) < 0.9 else [0.0, 1.0, 0.0])
         frame_u /= np.linalg.norm(frame_u)
         frame_v = np.cross(nrm, frame_u)
-        tris, owner = [], []
-        for k in members:
+        # triangles are their own triangulation; other faces ask the core (concave ones too)
+        is_tri = np.array([len(faces[k]) == 3 for k in members])
+        tri_idx = np.array([faces[k] for k in members[is_tri]], dtype=np.int64).reshape(-1, 3)
+        tris = [vertices[tri_idx]]
+        owner = [members[is_tri]]
+        for k in members[~is_tri]:
             t = np.asarray(triangulate(int(k)), dtype=np.int64).reshape(-1, 3)
             tris.append(vertices[faces[k]][t])
             owner.append(np.full(len(t), k))

@@ -72,13 +72,13 @@ class Shells:
 
 def shells(vertices: np.ndarray, faces: list[np.ndarray]) -> Shells:
     nf = len(faces)
-    _, weld = np.unique(vertices, axis=0, return_inverse=True)
-    weld = weld.ravel()
+    weld = _weld(vertices)
     flat, nxt, offsets = _flat(faces)
     a, b = weld[flat], weld[flat[nxt]]
     face_of_edge = np.repeat(np.arange(nf), np.diff(offsets))
     lo, hi = np.minimum(a, b), np.maximum(a, b)
-    keys, key_of_edge, count = np.unique(np.stack([lo, hi], axis=1), axis=0, return_inverse=True,
+    # one int64 key per undirected edge (1-D unique is much faster than unique on rows)
+    keys, key_of_edge, count = np.unique(lo * (int(weld.max()) + 1) + hi, return_inverse=True,
                                          return_counts=True)
     key_of_edge = key_of_edge.ravel()
     nk = len(keys)
@@ -98,6 +98,17 @@ def shells(vertices: np.ndarray, faces: list[np.ndarray]) -> Shells:
     centre = 0.5 * (vertices.min(axis=0) + vertices.max(axis=0)) if len(vertices) else np.zeros(3)
     vol = np.bincount(face_lab, weights=np.einsum("ij,ij->i", av, p0 - centre) / 3.0, minlength=ns)
     return Shells(face_lab, bad == 0, vol)
+
+
+def _weld(vertices: np.ndarray) -> np.ndarray:
+    """Index of each vertex among the distinct coordinates (exactly equal ones share one)."""
+    order = np.lexsort((vertices[:, 2], vertices[:, 1], vertices[:, 0]))
+    sv = vertices[order]
+    new = np.ones(len(sv), dtype=bool)
+    new[1:] = (sv[1:] != sv[:-1]).any(axis=1)
+    out = np.empty(len(sv), dtype=np.int64)
+    out[order] = np.cumsum(new) - 1
+    return out
 
 
 def _winding(points: np.ndarray, vertices: np.ndarray, faces: list[np.ndarray]) -> np.ndarray:
