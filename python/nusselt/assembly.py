@@ -72,18 +72,23 @@ def pair_reciprocity(done: list[Block], scene_areas: np.ndarray, dtype=np.float6
     for b in done:
         if b.data.size == 0:
             continue
-        ai = np.repeat(scene_areas[b.rows], np.diff(b.indptr))
-        aj = scene_areas[b.indices]
-        g1, g2 = b.data / ai, b.data / aj  # F_ij, F_ji as the mirror divides
-        if np.dtype(dtype) != np.float64:
-            g1, g2 = g1.astype(dtype).astype(np.float64), g2.astype(dtype).astype(np.float64)
-        g1 *= ai  # A_i F_ij
-        g2 *= aj  # A_j F_ji
-        diff = np.abs(g1 - g2)
-        den = np.maximum(np.abs(g1, out=g1), np.abs(g2, out=g2), out=g1)
-        np.divide(diff, den, out=diff, where=den > 0)  # 0 where both are 0 (diff is 0 there)
-        worst = max(worst, float(diff.max()))
+        area_i = np.repeat(scene_areas[b.rows], np.diff(b.indptr))
+        for s in range(0, b.data.size, _CHUNK):  # bounded temporaries
+            g, ai = b.data[s:s + _CHUNK], area_i[s:s + _CHUNK]
+            aj = scene_areas[b.indices[s:s + _CHUNK]]
+            g1, g2 = g / ai, g / aj  # F_ij, F_ji as the mirror divides
+            if np.dtype(dtype) != np.float64:
+                g1, g2 = g1.astype(dtype).astype(np.float64), g2.astype(dtype).astype(np.float64)
+            g1 *= ai  # A_i F_ij
+            g2 *= aj  # A_j F_ji
+            diff = np.abs(g1 - g2)
+            den = np.maximum(np.abs(g1, out=g1), np.abs(g2, out=g2), out=g1)
+            np.divide(diff, den, out=diff, where=den > 0)  # 0 where both are 0 (diff is 0 there)
+            worst = max(worst, float(diff.max()))
     return worst
+
+
+_CHUNK = 1 << 18
 
 
 def assemble_pairs(done: list[Block], col_of: np.ndarray, areas: np.ndarray, dtype=np.float64):
