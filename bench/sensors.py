@@ -2,7 +2,7 @@
 
 The room is 6 x 5 x 3 m in tiles of `--tile` metres (0.25 m: 2016 patches), furnished with
 tables (boxes whose tops are at 0.75 m), cabinets and a partition, every face a receiver and an
-obstacle. Points: an n x n grid at 1.1 m (seated head height), one normal each (up, or each of
+obstacle. Points: an n x n grid at 1.1 m (seated head height; those inside furniture left out), one normal each (up, or each of
 the six ISO 7726 directions with --six).
 
     python bench/sensors.py                # 10 000 points facing up
@@ -49,17 +49,27 @@ def tiles(face: np.ndarray, size: float):
 NAMES = ["floor", "ceiling", "wall_south", "wall_north", "wall_west", "wall_east"]
 
 
+FURNITURE = [("table", (0.8, 0.8, 0.70), (2.0, 1.6, 0.75)), ("table", (3.0, 0.8, 0.70), (4.2, 1.6, 0.75)),
+             ("table", (0.8, 3.0, 0.70), (2.0, 3.8, 0.75)), ("table", (3.0, 3.0, 0.70), (4.2, 3.8, 0.75)),
+             ("cabinet", (5.4, 0.2, 0.0), (5.9, 1.4, 1.9)), ("cabinet", (5.4, 3.4, 0.0), (5.9, 4.6, 1.9)),
+             ("partition", (2.7, 2.0, 0.0), (2.75, 3.0, 1.6))]
+
+
+def outside_furniture(pts: np.ndarray) -> np.ndarray:
+    """Mask of the points not inside a piece of furniture."""
+    inside = np.zeros(len(pts), bool)
+    for _, lo, hi in FURNITURE:
+        inside |= np.all((pts > lo) & (pts < hi), axis=1)
+    return ~inside
+
+
 def furnished_room(tile: float = 0.25) -> nusselt.Scene:
     polys, surf = [], []
     for name, f in zip(NAMES, box((0, 0, 0), (6, 5, 3), inward=True)):
         for t in tiles(f, tile):
             polys.append(t)
             surf.append(name)
-    furniture = [("table", (0.8, 0.8, 0.70), (2.0, 1.6, 0.75)), ("table", (3.0, 0.8, 0.70), (4.2, 1.6, 0.75)),
-                 ("table", (0.8, 3.0, 0.70), (2.0, 3.8, 0.75)), ("table", (3.0, 3.0, 0.70), (4.2, 3.8, 0.75)),
-                 ("cabinet", (5.4, 0.2, 0.0), (5.9, 1.4, 1.9)), ("cabinet", (5.4, 3.4, 0.0), (5.9, 4.6, 1.9)),
-                 ("partition", (2.7, 2.0, 0.0), (2.75, 3.0, 1.6))]
-    for name, lo, hi in furniture:
+    for name, lo, hi in FURNITURE:
         for f in box(lo, hi, inward=False):
             polys.append(f)
             surf.append(name)
@@ -77,6 +87,7 @@ def main() -> None:
     g = (np.arange(a.grid) + 0.5) / a.grid
     x, y = np.meshgrid(0.05 + 5.9 * g, 0.05 + 4.9 * g, indexing="ij")
     pts = np.column_stack([x.ravel(), y.ravel(), np.full(x.size, 1.1)])
+    pts = pts[outside_furniture(pts)]
     if a.six:
         d = sensors.six_directions()
         normals = np.concatenate([np.repeat(d[k][None], len(pts), 0) for k in d])

@@ -313,6 +313,71 @@ fn csr(rows: Vec<Result<Vec<(u32, f64, f64)>>>, with_std: bool) -> Result<PairBl
     Ok(b)
 }
 
+/// The polygons of `among` (not in `ignore`) that may meet the cone from p over the convex
+/// polygon b, closed by b's plane: a polygon is dropped when all its vertices lie outside one
+/// of the cone's planes (through p and an edge of b) or beyond b's plane, or when p and b lie
+/// strictly on one side of its plane (tolerance 1e-10 of the pair's size, so polygons merely
+/// touching the cone are dropped, as in the shaft test). The same answer as the shaft test's
+/// superset for a point source, without building a shaft. False (nothing done) when b is not
+/// convex.
+fn cone_candidates(p: Vec3, b: &Polygon, ignore: &[u32], among: &[u32], occ: &[Polygon], out: &mut Vec<u32>) -> bool {
+    out.clear();
+    let v = b.vertices();
+    let m = v.len();
+    let nb = b.normal();
+    let c = b.centroid();
+    let size = b.radius() + p.distance(c);
+    let tol = 1e-10 * size;
+    // convex: every turn to the left about b's normal
+    if (0..m).any(|k| (v[(k + 1) % m] - v[k]).cross(v[(k + 2) % m] - v[(k + 1) % m]).dot(nb) < -1e-12 * size * size) {
+        return false;
+    }
+    let h = nb.dot(p - c);
+    if !(h > tol) {
+        return false;
+    }
+    // inward unit normals of the cone's side planes (through p): b's centroid is inside
+    let mut planes: [(Vec3, f64); 9] = [(Vec3::ZERO, 0.0); 9];
+    if m + 1 > planes.len() {
+        return false;
+    }
+    for k in 0..m {
+        let mut n = (v[k] - p).cross(v[(k + 1) % m] - p);
+        let len = n.length();
+        if !(len > 0.0) {
+            return false;
+        }
+        n /= len;
+        if n.dot(c - p) < 0.0 {
+            n = -n;
+        }
+        planes[k] = (n, n.dot(p));
+    }
+    // b's plane: the inside is p's side
+    planes[m] = (nb, nb.dot(c));
+    for &k in among {
+        if ignore.contains(&k) {
+            continue;
+        }
+        let q = &occ[k as usize];
+        let w = q.vertices();
+        let outside = planes[..m].iter().any(|&(n, d)| w.iter().all(|x| n.dot(*x) - d < -tol))
+            || w.iter().all(|x| nb.dot(*x) - planes[m].1 < -tol);
+        if outside {
+            continue;
+        }
+        // the blocker's plane separates nothing: p and b on one side
+        let (nq, dq) = (q.normal(), q.normal().dot(q.centroid()));
+        let sp = nq.dot(p) - dq;
+        let side = |x: &Vec3| nq.dot(*x) - dq;
+        if (sp > tol && v.iter().all(|x| side(x) > tol)) || (sp < -tol && v.iter().all(|x| side(x) < -tol)) {
+            continue;
+        }
+        out.push(k);
+    }
+    true
+}
+
 /// Every occluder in both orientations (target 2k faces like occluder k, 2k + 1 the other way).
 fn sky_polygons(ctx: &Context) -> Result<Vec<Polygon>> {
     let mut both = Vec::with_capacity(2 * ctx.occluders.polygons.len());
@@ -416,7 +481,9 @@ fn point_row_with(
             ignore.clear();
             ignore.push(t.own[k]);
             ignore.extend(skip);
-            ctx.vis.candidates_among(&src, b, &ignore, &among, &mut cand);
+            if !cone_candidates(p, b, &ignore, &among, &ctx.occluders.polygons, &mut cand) {
+                ctx.vis.candidates_among(&src, b, &ignore, &among, &mut cand);
+            }
             if cand.is_empty() {
                 continue;
             }
