@@ -14,6 +14,7 @@ import numpy as np
 import nusselt
 import pytest
 from conftest import cube_faces
+from nusselt import checkpoint as ck
 from nusselt.cli import main
 from nusselt.io import atomic
 
@@ -210,3 +211,25 @@ def test_a_temporary_left_by_a_killed_write_is_recognisable_and_removed_next_tim
     nusselt.io.write_result(target, nusselt.form_factors(_scene(1)))
     assert sorted(os.listdir(tmp_path)) == sorted(["big.npz", live.name])
     assert nusselt.io.load_npz(target)["matrix"].shape == (6, 6)
+
+
+def test_a_removal_stopped_half_way_leaves_a_checkpoint_that_resumes(tmp_path, monkeypatch):
+    """Ctrl-C during the removal of a finished run's checkpoint (after the output is written)
+    used to leave blocks without their manifest, which every later --resume refused."""
+    scene = _scene()
+    path = tmp_path / "ck"
+    ref = _run(scene, path)
+    real_unlink, calls = os.unlink, []
+
+    def unlink(p, *a, **k):
+        calls.append(p)
+        if len(calls) == 2:
+            raise KeyboardInterrupt
+        return real_unlink(p, *a, **k)
+
+    monkeypatch.setattr(os, "unlink", unlink)
+    with pytest.raises(KeyboardInterrupt):
+        ck.remove_dir(path)
+    monkeypatch.setattr(os, "unlink", real_unlink)
+    assert (path / "manifest.json").exists()
+    assert np.array_equal(_run(scene, path, resume=True).matrix.data, ref.matrix.data)

@@ -239,7 +239,23 @@ class Checkpoint:
 
     def remove(self) -> None:
         self.close()
-        shutil.rmtree(self.path, ignore_errors=True)
+        remove_dir(self.path)
+
+
+def remove_dir(path: str | os.PathLike) -> None:
+    """Removes a checkpoint directory, its manifest last: removal stopped half-way (Ctrl-C,
+    kill) leaves a manifest with some of its blocks, which resumes, never blocks without one."""
+    path = os.fspath(path)
+    if not os.path.isdir(path):
+        return
+    for f in sorted(os.listdir(path), key=lambda f: f == MANIFEST):
+        p = os.path.join(path, f)
+        with contextlib.suppress(OSError):
+            if os.path.isdir(p) and not os.path.islink(p):
+                remove_dir(p)  # a zone's checkpoint inside (nusselt.zones)
+            else:
+                os.unlink(p)
+    shutil.rmtree(path, ignore_errors=True)
 
 
 def _check_block(b: Block) -> None:

@@ -198,7 +198,9 @@ def cmd_matrix(args) -> int:
     res.info.update(res.trust())
     write_result(args.output, res, scene=scene, to_surface=args.to_surface, zone_name=args.zone_name,
                  compress=args.compress)
-    shutil.rmtree(partial, ignore_errors=True)
+    from .checkpoint import remove_dir
+
+    remove_dir(partial)  # the manifest last: a Ctrl-C here leaves a checkpoint that resumes
     print(res.summary())
     print(f"written {args.output}")
     return 0
