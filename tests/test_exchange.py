@@ -88,3 +88,118 @@ def test_script_f_bad_input():
         exchange.script_f(np.array([[0.0, 1.5], [0.5, 0.5]]), 0.5)
     with pytest.raises(ValueError, match="singular"):
         exchange.script_f(f, 0.0)
+
+
+def plates(side, gap):
+    return nusselt.form_factors(nusselt.Scene.from_polygons(
+        [rect(0, side, 0, side, 0.0), rect(0, side, 0, side, gap, flip=True)], surface=["hot", "cold"]))
+
+
+def test_solve_finite_plates_against_dense_solve_and_infinite_limit():
+    e1, e2, t1, t2 = 0.8, 0.5, 600.0, 300.0
+    res = plates(1.0, 0.002)  # side 500 x the gap, exact F
+    r = exchange.solve(res, [e1, e2], [t1, t2], ambient=0.0)
+    q_ref = net_radiation(res.dense(), res.areas, np.array([e1, e2]), np.array([t1, t2]))
+    np.testing.assert_allclose(r.heat, q_ref, rtol=1e-12)
+    infinite = SIGMA * (t1**4 - t2**4) / (1 / e1 + 1 / e2 - 1)
+    assert r.flux[0] == pytest.approx(infinite, rel=0.01)  # F12 = 0.996: the edges lose a little to 0 K
+    # energy: what the plates lose is what the 0 K surroundings receive
+    assert r.ambient_heat == pytest.approx(r.heat.sum(), rel=1e-12)
+    assert r.ambient_heat > 0
+
+
+def test_solve_concentric_cylinders_closed_form_and_conservation():
+    # Modest eq. (5.41): q1 = sigma (T1^4 - T2^4) / (1/eps1 + A1/A2 (1/eps2 - 1))
+    f, areas = concentric(np.pi * 2 * 0.1, np.pi * 2 * 0.25)
+    e, t = np.array([0.35, 0.8]), np.array([900.0, 350.0])
+    r = exchange.solve(f, e, t, areas=areas)
+    q1 = SIGMA * (t[0] ** 4 - t[1] ** 4) / (1 / e[0] + areas[0] / areas[1] * (1 / e[1] - 1))
+    assert r.flux[0] == pytest.approx(q1, rel=1e-12)
+    assert abs(r.heat.sum()) <= 1e-12 * abs(r.heat[0])
+    qij = r.pairwise()
+    np.testing.assert_allclose(qij, -qij.T, atol=1e-12 * abs(r.heat[0]))
+    np.testing.assert_allclose(qij.sum(axis=1), r.heat, rtol=1e-12)
+
+
+def test_solve_mixed_conditions_round_trip_and_sparse_path(monkeypatch):
+    polys, _ = cube_faces(n=3)
+    res = nusselt.form_factors(nusselt.Scene.from_polygons(polys))
+    n = len(res)
+    rng = np.random.default_rng(7)
+    eps = rng.uniform(0.1, 0.95, n)
+    t = rng.uniform(250.0, 450.0, n)
+    full = exchange.solve(res, eps, t)
+    assert abs(full.heat.sum()) <= 1e-12 * np.abs(full.heat).sum()
+    # give the fluxes of every other patch instead of its temperature: the same state
+    tt, qq = t.copy(), np.full(n, np.nan)
+    tt[::2], qq[::2] = np.nan, full.flux[::2]
+    mixed = exchange.solve(res, eps, tt, qq)
+    np.testing.assert_allclose(mixed.temperature, t, rtol=1e-10)
+    np.testing.assert_allclose(mixed.radiosity, full.radiosity, rtol=1e-10)
+    monkeypatch.setattr(exchange, "DENSE_LIMIT", 4)  # the sparse LU path
+    sparse = exchange.solve(res, eps, tt, qq)
+    np.testing.assert_allclose(sparse.radiosity, mixed.radiosity, rtol=1e-12)
+    dense_sf = exchange.script_f(res.dense(), eps)
+    np.testing.assert_allclose(exchange.script_f(res, eps), dense_sf, rtol=1e-10, atol=1e-15)
+
+
+def test_solve_open_scene_sky_node():
+    # A plate facing the sky at 3 K: q = eps sigma (T^4 - T_sky^4) (it sees nothing else)
+    res = nusselt.form_factors(nusselt.Scene.from_polygons([rect(0, 1, 0, 1)]))
+    r = exchange.solve(res, 0.85, 300.0, ambient=3.0)
+    assert r.flux[0] == pytest.approx(0.85 * SIGMA * (300.0**4 - 3.0**4), rel=1e-12)
+    assert r.ambient_heat == pytest.approx(r.heat[0], rel=1e-12)
+    # radiative equilibrium (q = 0) of a plate between a 400 K plate and the 3 K sky
+    res2 = plates(1.0, 0.2)
+    r2 = exchange.solve(res2, [0.9, 0.6], [400.0, np.nan], [np.nan, 0.0], ambient=3.0)
+    ref = net_radiation(res2.dense(), res2.areas, np.array([0.9, 0.6]), r2.temperature, t_amb=3.0)
+    np.testing.assert_allclose(ref, r2.heat, atol=1e-9 * abs(r2.heat[0]))
+    assert ref[1] == pytest.approx(0.0, abs=1e-9 * abs(ref[0]))
+
+
+def test_band_fraction_against_planck_quadrature():
+    from scipy.integrate import quad
+
+    c2 = exchange.C2
+
+    def planck(lt):  # (15/pi^4) integral of C2^4 / (l^5 (e^{C2/l} - 1)) dl, independent quadrature
+        g = lambda x: 15 / np.pi**4 * c2**4 / x**5 / np.expm1(c2 / x) if x > 50 else 0.0
+        return quad(g, 0.0, lt, epsabs=0, epsrel=1e-13, limit=500)[0]
+
+    for lt in [500.0, 1000.0, 2897.77, 5000.0, 14387.0, 1.4e5, 1.5e5, 1e6]:
+        assert exchange.blackbody_fraction(lt, 1.0) == pytest.approx(planck(lt), rel=1e-12, abs=1e-15)
+    np.testing.assert_allclose(exchange.band_fractions([0, 3, 8, np.inf], [300.0, 1000.0]).sum(axis=1), 1.0, rtol=1e-14)
+
+
+def test_band_mode_grey_limit_and_two_band_closed_form():
+    f, areas = concentric(1.0, 3.0)
+    t = np.array([800.0, 300.0])
+    edges = [0.0, 4.0, np.inf]
+    grey = exchange.solve(f, [0.4, 0.7], t, areas=areas)
+    banded = exchange.solve(f, [[0.4, 0.4], [0.7, 0.7]], t, areas=areas, bands=edges)
+    np.testing.assert_allclose(banded.heat, grey.heat, rtol=1e-12)
+    # each band is a grey problem with its share of sigma T^4: closed form per band, summed
+    e = np.array([[0.2, 0.9], [0.6, 0.1]])
+    r = exchange.solve(f, e, t, areas=areas, bands=edges)
+    fr = exchange.band_fractions(edges, t)
+    ref = sum(areas[0] * SIGMA * (fr[0, b] * t[0] ** 4 - fr[1, b] * t[1] ** 4)
+              / (1 / e[0, b] + areas[0] / areas[1] * (1 / e[1, b] - 1)) for b in range(2))
+    assert r.heat[0] == pytest.approx(ref, rel=1e-12)
+    assert abs(r.heat.sum()) <= 1e-12 * abs(r.heat[0])
+    np.testing.assert_allclose(r.pairwise().sum(axis=1), r.heat, rtol=1e-12)
+
+
+def test_solve_bad_input():
+    f, areas = concentric(1.0, 2.0)
+    with pytest.raises(ValueError, match="exactly one of temperature and flux"):
+        exchange.solve(f, 0.5, [300.0, 300.0], [0.0, np.nan], areas=areas)
+    with pytest.raises(ValueError, match="neither"):
+        exchange.solve(f, 0.5, [300.0, np.nan], areas=areas)
+    with pytest.raises(ValueError, match="at least one temperature"):
+        exchange.solve(f, 0.5, None, [0.0, 0.0], areas=areas)
+    with pytest.raises(ValueError, match="needs areas"):
+        exchange.solve(f, 0.5, 300.0)
+    with pytest.raises(ValueError, match="negative"):
+        exchange.solve(f, 0.5, [-1.0, 300.0], areas=areas)
+    with pytest.raises(ValueError, match="band mode needs a temperature"):
+        exchange.solve(f, [[0.5, 0.5]] * 2, [300.0, np.nan], [np.nan, 0.0], areas=areas, bands=[0, 4, np.inf])
