@@ -76,7 +76,7 @@ def content_hash(arrays: dict[str, np.ndarray]) -> str:
     for name in sorted(arrays):
         a = np.ascontiguousarray(arrays[name])
         h.update(f"{name}|{a.dtype.str}|{a.shape}|".encode())
-        h.update(memoryview(a).cast("B") if a.size else b"")
+        h.update(a.view(np.uint8).data if a.size else b"")
     return h.hexdigest()
 
 
@@ -222,7 +222,7 @@ class Checkpoint:
         if meta.get("sha256") != content_hash(stored):
             raise self._refuse(k, "is damaged (its content does not match its SHA-256)")
         try:
-            b = Block(*(stored.get(name) for name in _ARRAYS))
+            b = Block(*(stored.get(name) for name in _ARRAYS))  # type: ignore[arg-type]
             _check_block(b)
         except (TypeError, ValueError) as e:
             raise self._refuse(k, f"is malformed ({e})") from None

@@ -120,7 +120,7 @@ def run_blocks(
             for f in as_completed(futures):
                 k = futures.pop(f)
                 # arrays off the wire may be unaligned views of the message: made aligned
-                b = Block(plan[k], *(None if a is None else np.require(a, requirements=["C", "A"]) for a in f.result()))
+                b = Block(plan[k], *(None if a is None else np.require(a, requirements=["C", "A"]) for a in f.result()))  # type: ignore[arg-type]
                 if checkpoint is not None:
                     checkpoint.save(k, b)
                 done[k] = keep(b)

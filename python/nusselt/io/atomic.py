@@ -52,7 +52,7 @@ def remove_stale_temps(target: str) -> list[str]:
     their paths. Temporaries of running processes (another writer) are left alone."""
     d = os.path.dirname(os.path.abspath(target))
     pat = _tmp_pattern(target)
-    removed = []
+    removed: list[str] = []
     try:
         names = os.listdir(d)
     except OSError:
@@ -125,8 +125,8 @@ def atomic_open(target: str | os.PathLike, mode: str = "w") -> Iterator[IO]:
     tmp = temp_name(target)
     fd = _create(tmp)
     try:
-        kw = {} if "b" in mode else {"encoding": "utf-8", "newline": ""}
-        with os.fdopen(fd, mode, **kw) as fh:
+        fh: IO = os.fdopen(fd, "wb") if mode == "wb" else os.fdopen(fd, "w", encoding="utf-8", newline="")
+        with fh:
             yield fh
             fh.flush()
             os.fsync(fh.fileno())
