@@ -495,3 +495,60 @@ fn point_row_with(
     row.sort_unstable_by_key(|e| e.0);
     Ok(row)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::hemisphere::testkit::room_with_crate;
+
+    fn lcg(state: &mut u64) -> f64 {
+        *state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        (*state >> 11) as f64 / (1u64 << 53) as f64
+    }
+
+    #[test]
+    fn point_rows_equal_the_per_point_estimates_and_close() {
+        // The batch path (clusters, cone tests) against obstructed::point pair by pair, and
+        // closure inside the room.
+        let (polys, _) = room_with_crate(3, 1);
+        let n = polys.len();
+        let scene = Scene::new(polys, vec![true; n]).unwrap();
+        let ctx = scene.context().unwrap();
+        let mut s = 7u64;
+        let (mut pts, mut nrm) = (Vec::new(), Vec::new());
+        while pts.len() < 12 {
+            let p = Vec3::new(4.0 * lcg(&mut s), 3.0 * lcg(&mut s), 2.5 * lcg(&mut s));
+            let inside_crate = p.x > 1.0 && p.x < 2.2 && p.y > 1.0 && p.y < 2.0 && p.z > 0.3 && p.z < 1.1;
+            if !inside_crate {
+                pts.push(p);
+                nrm.push(Vec3::new(lcg(&mut s) - 0.5, lcg(&mut s) - 0.5, lcg(&mut s) - 0.5).normalize());
+            }
+        }
+        let o = AllOptions::default();
+        let b = scene.point_rows(&pts, &nrm, AnyMethod::Visible(VisMethod::Auto), true, &o, &AtomicBool::new(false)).unwrap();
+        let mut hidden = 0;
+        for (k, (&p, &nv)) in pts.iter().zip(&nrm).enumerate() {
+            let (lo, hi) = (b.indptr[k] as usize, b.indptr[k + 1] as usize);
+            let row: std::collections::HashMap<i32, f64> = b.cols[lo..hi].iter().copied().zip(b.g[lo..hi].iter().copied()).collect();
+            let sum: f64 = b.g[lo..hi].iter().sum();
+            assert!((sum - 1.0).abs() < 1e-12, "point {k}: row sum {sum}");
+            for j in 0..n {
+                let want = obstructed::point(&ctx, p, nv, j, VisMethod::Auto, &o.vis).unwrap().value;
+                let got = row.get(&(j as i32)).copied().unwrap_or(0.0);
+                assert!((got - want).abs() <= 1e-13, "point {k} polygon {j}: {got} against {want}");
+                hidden += (want < analytic::point_polygon(p, nv, scene.polygons[j].vertices()) * (1.0 - 1e-9)) as usize;
+            }
+        }
+        assert!(hidden > 20, "{hidden} hidden pairs");
+        // spheres close too
+        let sph = scene.point_sphere_rows(&pts, true, &AtomicBool::new(false)).unwrap();
+        for k in 0..pts.len() {
+            let sum: f64 = sph.g[sph.indptr[k] as usize..sph.indptr[k + 1] as usize].iter().sum();
+            assert!((sum - 1.0).abs() < 1e-12, "sphere {k}: {sum}");
+        }
+        // and nothing of the sky is seen from inside
+        for v in scene.point_sky(&pts, &nrm, &AtomicBool::new(false)).unwrap() {
+            assert!(v < 1e-12, "{v}");
+        }
+    }
+}
