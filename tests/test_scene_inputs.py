@@ -321,3 +321,28 @@ def test_overlap_search_finds_what_brute_force_finds():
     assert set(got) == set(want)
     for k in want:
         assert got[k] == pytest.approx(want[k], rel=1e-12)
+
+
+def test_closed_mesh_with_reversed_faces_is_made_consistent():
+    # An inward cube with 3 of its 24 patches reversed (a broken export): rows of those 3
+    # were 0. The walk over shared edges turns them back (the majority orientation wins).
+    polys, _ = cube_faces(2)
+    bad = [p[::-1] if k in (3, 7, 20) else p for k, p in enumerate(polys)]
+    scene = nusselt.Scene.from_polygons(bad)
+    assert scene.meta["orient"]["flipped"] == [3, 7, 20]
+    assert nusselt.form_factors(scene).closure_error < 1e-12
+    # 21 of 24 reversed: the same walk keeps the majority, an outward box, then auto turns it inward
+    worse = [p if k in (3, 7, 20) else p[::-1] for k, p in enumerate(polys)]
+    assert nusselt.form_factors(nusselt.Scene.from_polygons(worse)).closure_error < 1e-12
+    with pytest.warns(OrientationWarning, match="3 faces .* face against their neighbours"):
+        as_is = nusselt.Scene.from_polygons(bad, orient="as-is")
+    assert np.allclose(nusselt.form_factors(as_is).row_sums[[3, 7, 20]], 0.0)
+
+
+def test_concave_faces_overlap_by_area_not_by_hull():
+    ell = np.array([[0, 0, 0], [2, 0, 0], [2, 1, 0], [1, 1, 0], [1, 2, 0], [0, 2, 0]], float)
+    notch = rect(1, 2, 1, 2)  # fills the L's notch: inside its hull, outside the L
+    cover = rect(0, 2, 0, 2, 1.0, flip=True)
+    nusselt.Scene.from_polygons([ell, notch, cover])
+    with pytest.raises(ValueError, match=r"face 0 and face 2 lie in one plane.*overlap \(0.75 of"):
+        nusselt.Scene.from_polygons([ell, notch, rect(0.5, 1.5, 0.5, 1.5), cover])

@@ -122,12 +122,20 @@ def coplanar_overlaps(
         frame_u = np.cross(nrm, [1.0, 0.0, 0.0] if abs(nrm[0]) < 0.9 else [0.0, 1.0, 0.0])
         frame_u /= np.linalg.norm(frame_u)
         frame_v = np.cross(nrm, frame_u)
-        # triangles are their own triangulation; other faces ask the core (concave ones too)
-        is_tri = np.array([len(faces[k]) == 3 for k in members])
-        tri_idx = np.array([faces[k] for k in members[is_tri]], dtype=np.int64).reshape(-1, 3)
-        tris = [vertices[tri_idx]]
-        owner = [members[is_tri]]
-        for k in members[~is_tri]:
+        # convex faces are fanned here, by face size at once; the core triangulates the rest
+        sizes_m = np.array([len(faces[k]) for k in members])
+        tris, owner, rest = [], [], []
+        for m in np.unique(sizes_m):
+            ks = members[sizes_m == m]
+            p = vertices[np.array([faces[k] for k in ks], dtype=np.int64)]  # (g, m, 3)
+            e = np.roll(p, -1, axis=1) - p
+            turn = np.einsum("gij,gj->gi", np.cross(e, np.roll(e, -1, axis=1)), normals[ks])
+            convex = (turn > 0).all(axis=1) if m > 3 else np.ones(len(ks), dtype=bool)
+            fan = np.stack([np.zeros(m - 2, np.int64), np.arange(1, m - 1), np.arange(2, m)], axis=1)
+            tris.append(p[convex][:, fan].reshape(-1, 3, 3))
+            owner.append(np.repeat(ks[convex], m - 2))
+            rest.extend(ks[~convex].tolist())
+        for k in rest:
             t = np.asarray(triangulate(int(k)), dtype=np.int64).reshape(-1, 3)
             tris.append(vertices[faces[k]][t])
             owner.append(np.full(len(t), k))

@@ -241,6 +241,13 @@ class Scene:
                 "its rows will be 0. Rooms must face inward: use orient='auto' or 'inward' (nusselt matrix "
                 "--orient inward)", OrientationWarning, stacklevel=2)
 
+        if orient == "as-is" and len(report.get("inconsistent", ())):
+            bad = kept[report["inconsistent"]]
+            warnings.warn(
+                f"{where}{len(bad)} faces ({self._face_label(int(bad[0]))}, ...) of a closed mesh face against "
+                "their neighbours (each of their edges is run the same way by the next face): they are "
+                "probably reversed; orient='auto', 'inward' or 'outward' makes the mesh consistent",
+                OrientationWarning, stacklevel=2)
         if len(flipped) or not keep.all():
             core = None
         if not keep.all():

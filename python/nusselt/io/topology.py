@@ -17,7 +17,7 @@ from dataclasses import dataclass
 
 import numpy as np
 import scipy.sparse as sp
-from scipy.sparse.csgraph import connected_components
+from scipy.sparse.csgraph import breadth_first_order, connected_components
 
 ORIENTS = ("auto", "inward", "outward", "as-is")
 
@@ -64,6 +64,7 @@ class Shells:
     label: np.ndarray
     closed: np.ndarray
     volume: np.ndarray
+    manifold: np.ndarray  # per shell: every edge used exactly twice (whatever the directions)
 
     @property
     def count(self) -> int:
@@ -92,12 +93,53 @@ def shells(vertices: np.ndarray, faces: list[np.ndarray]) -> Shells:
     _, face_lab = np.unique(face_lab, return_inverse=True)
     ns = int(face_lab.max()) + 1 if nf else 0
     bad = np.bincount(face_lab[face_of_edge], weights=(~edge_ok[key_of_edge]).astype(float), minlength=ns)
+    open_edges = np.bincount(face_lab[face_of_edge], weights=(count[key_of_edge] != 2).astype(float), minlength=ns)
     av = area_vectors(vertices, faces)
     p0 = vertices[flat[offsets[:-1]]] if nf else np.zeros((0, 3))
     # shift to the scene's centre so the volume sum does not cancel far from the origin
     centre = 0.5 * (vertices.min(axis=0) + vertices.max(axis=0)) if len(vertices) else np.zeros(3)
     vol = np.bincount(face_lab, weights=np.einsum("ij,ij->i", av, p0 - centre) / 3.0, minlength=ns)
-    return Shells(face_lab, bad == 0, vol)
+    return Shells(face_lab, bad == 0, vol, open_edges == 0)
+
+
+def _consistent_flips(vertices: np.ndarray, faces: list[np.ndarray], members: np.ndarray) -> np.ndarray | None:
+    """Faces of a shell (``members``, every edge used twice) to reverse so that each edge is
+    used once each way: a breadth-first walk over shared edges (a neighbour that runs a
+    shared edge the same way must be reversed relative to its predecessor), keeping the
+    orientation of the majority of faces. None if the shell cannot be oriented (a Moebius
+    strip, a Klein bottle)."""
+    sub = [faces[k] for k in members]
+    nf = len(sub)
+    weld = _weld(vertices)
+    flat, nxt, offsets = _flat(sub)
+    a, b = weld[flat], weld[flat[nxt]]
+    face_of_edge = np.repeat(np.arange(nf), np.diff(offsets))
+    key = np.minimum(a, b) * (int(weld.max()) + 1) + np.maximum(a, b)
+    order = np.argsort(key, kind="stable")
+    e1, e2 = order[0::2], order[1::2]
+    if len(e1) != len(e2) or np.any(key[e1] != key[e2]):
+        return None
+    f1, f2 = face_of_edge[e1], face_of_edge[e2]
+    fwd = a < b
+    parity = (fwd[e1] == fwd[e2]).astype(np.int8)  # 1: the two must differ in flip
+    g = sp.coo_matrix((parity.astype(float) + 1.0, (f1, f2)), shape=(nf, nf)).tocsr()
+    g = (g + g.T).tocsr()
+    flip = np.zeros(nf, dtype=bool)
+    seen = np.zeros(nf, dtype=bool)
+    for root in range(nf):
+        if seen[root]:
+            continue
+        bfs, pred = breadth_first_order(g, root, directed=False, return_predecessors=True)
+        seen[bfs] = True
+        for node in bfs[1:]:
+            p = pred[node]
+            flip[node] = flip[p] ^ (g[p, node] > 1.5)
+    d = fwd ^ flip[face_of_edge]
+    if np.any(d[e1] == d[e2]):
+        return None
+    if flip.sum() * 2 > nf:
+        flip = ~flip  # keep the orientation most faces had
+    return members[flip]
 
 
 def _weld(vertices: np.ndarray) -> np.ndarray:
@@ -164,6 +206,11 @@ def orient_faces(vertices: np.ndarray, faces: list[np.ndarray], orient: str = "a
       fronts would see nothing, so it is turned inward. Everything else is left as it is,
       so closed solids inside a room or in an urban scene stay seen from outside.
 
+    Except for ``"as-is"``, a shell whose edges are each used twice but not once each way
+    (some faces of a closed mesh reversed, as broken exports have) is first made consistent,
+    keeping the orientation of most of its faces (``report["consistent"]``); with
+    ``"as-is"``, ``report["inconsistent"]`` lists the faces that would be reversed.
+
     Returns ``(faces, report)``; ``report`` holds ``flipped`` (indices of the reversed
     faces), ``open`` (faces in shells that are not closed and consistent), ``shells``
     and, for ``"as-is"``, ``outward_enclosure`` (faces of a shell ``"auto"`` would turn).
@@ -175,6 +222,21 @@ def orient_faces(vertices: np.ndarray, faces: list[np.ndarray], orient: str = "a
     if not faces:
         return faces, report
     sh = shells(vertices, faces)
+    made_consistent = np.zeros(0, np.int64)
+    fixed = []
+    for sidx in np.flatnonzero(sh.manifold & ~sh.closed):
+        flips = _consistent_flips(vertices, faces, np.flatnonzero(sh.label == sidx))
+        if flips is not None:
+            fixed.append(flips)
+    if orient == "as-is":
+        report["inconsistent"] = np.concatenate(fixed) if fixed else np.zeros(0, np.int64)
+    else:
+        if fixed:
+            made_consistent = np.concatenate(fixed)
+            for k in made_consistent:
+                faces[k] = faces[k][::-1].copy()
+            sh = shells(vertices, faces)
+    report["consistent"] = made_consistent
     report["shells"] = sh.count
     report["open"] = np.flatnonzero(~sh.closed[sh.label])
     flip_shell = np.zeros(sh.count, dtype=bool)
@@ -188,8 +250,9 @@ def orient_faces(vertices: np.ndarray, faces: list[np.ndarray], orient: str = "a
             flip_shell[enclosing] = True
         else:
             report["outward_enclosure"] = np.flatnonzero(np.isin(sh.label, enclosing))
-    flipped = np.flatnonzero(flip_shell[sh.label])
-    for k in flipped:
+    turned = np.flatnonzero(flip_shell[sh.label])
+    for k in turned:
         faces[k] = faces[k][::-1].copy()
-    report["flipped"] = flipped
+    # a face reversed twice (made consistent, then its shell turned) is back as given
+    report["flipped"] = np.setxor1d(turned, made_consistent)
     return faces, report
