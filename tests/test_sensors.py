@@ -229,6 +229,8 @@ def test_sampled_method_matches_exact_within_its_error():
     sub = sensors.point_view_factors(p, n, scene, method="subdivision", divisions=64, dense=True)
     assert np.abs(exact - sub).max() < 2e-3
     assert np.abs(exact - sub).max() > 0  # the crate is in view: the sampled method did sample
+    mc, err = sensors.point_view_factors(p, n, scene, method="montecarlo", samples=4096, dense=True, return_std=True)
+    assert err.max() > 0 and np.all(np.abs(mc - exact) <= 6 * err + 1e-14)
 
 
 def test_points_csv_errors_name_the_line(tmp_path):

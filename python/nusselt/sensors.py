@@ -88,6 +88,7 @@ def point_view_factors(
     obstructed: bool = True,
     by_surface: bool = False,
     dense: bool = False,
+    return_std: bool = False,
     **options,
 ):
     """F from differential plane elements at ``points`` (unit ``normals``) to every receiving
@@ -109,6 +110,8 @@ def point_view_factors(
         Return the (P, n_surfaces) sums over each named surface's patches instead.
     dense : bool
         Return a numpy array instead of a ``scipy.sparse.csr_array``.
+    return_std : bool
+        Also return the standard errors (patch level, zero for the deterministic methods).
 
     Returns
     -------
@@ -121,7 +124,13 @@ def point_view_factors(
         raise ValueError(f"{len(p)} points but {len(n)} normals")
     _, opts = resolve(method, options, obstructed=obstructed)
     parts = scene._core.point_rows(p, n, method, opts, bool(obstructed))
-    return _assemble(scene, parts, len(p), dense, by_surface)
+    f = _assemble(scene, parts, len(p), dense, by_surface)
+    if not return_std:
+        return f
+    indptr, idx, _, std = parts
+    err = np.zeros(len(idx)) if std is None else np.asarray(std)
+    std_parts = (indptr, idx, err, None)
+    return f, _assemble(scene, std_parts, len(p), dense, False)
 
 
 def sphere_view_factors(points, scene: Scene, *, obstructed: bool = True, by_surface: bool = False, dense: bool = False):
