@@ -123,6 +123,8 @@ def main() -> int:
     ap.add_argument("--trials", type=int, default=30)
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--block-size", type=int, default=60000)
+    ap.add_argument("--kinds", nargs="+", default=["kill", "interrupt", "corrupt"],
+                    choices=["kill", "interrupt", "corrupt"], help="faults to draw from")
     args = ap.parse_args()
     rng = random.Random(args.seed)
     work = tempfile.mkdtemp(prefix="nusselt-faults-")
@@ -150,11 +152,17 @@ def main() -> int:
     outcomes: Counter = Counter()
     failures = []
     for t in range(args.trials):
-        kind = rng.choice(["kill", "interrupt", "corrupt"])
+        kind = rng.choice(args.kinds)
         out = os.path.join(work, f"t{t}.npz")
         partial = out + ".partial"
         p = subprocess.Popen(base + ["-o", out], stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
-        time.sleep(rng.uniform(0.0, 1.1 * t_ref))
+        if kind == "corrupt":  # something to corrupt: wait for the first block
+            while p.poll() is None and not (os.path.isdir(partial) and any(
+                    f.startswith("block_") for f in os.listdir(partial))):
+                time.sleep(0.01)
+            time.sleep(rng.uniform(0.0, 0.5 * t_ref))
+        else:
+            time.sleep(rng.uniform(0.0, 1.1 * t_ref))
         p.send_signal(signal.SIGINT if kind == "interrupt" else signal.SIGKILL)
         _, err = p.communicate()
         note = f"exit {p.returncode}"
