@@ -221,6 +221,8 @@ def test_scene_is_immutable():
         scene.surface_names.append("x")
     with pytest.raises(AttributeError, match="immutable"):
         scene.obstruction = np.ones(6, bool)
+    with pytest.raises(TypeError):
+        scene.meta["orient"] = None
     v = np.array(scene.vertices)
     v[0] = 99.0  # a copy is the caller's to change
     assert scene.vertices[0, 0] == 0.0

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+import types
 import warnings
 from collections.abc import Sequence
 
@@ -303,7 +304,7 @@ class Scene:
         info["orient"] = orient_info
         if dropped:
             info["repair"] = dropped
-        self.meta = info
+        self.meta = types.MappingProxyType(info)  # read-only view (what the reader kept)
         self.planarity_tol = float(planarity_tol)
         self._core = core
         self.areas = _frozen(areas)
