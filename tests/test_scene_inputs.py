@@ -257,7 +257,13 @@ def test_two_sided_plate_between_floor_and_ceiling():
     # and ceiling see only the plate, and the plate's joined row averages its two sides.
     floor, ceiling = rect(0, 1, 0, 1, 0.0), rect(0, 1, 0, 1, 1.0, flip=True)
     plate = rect(0, 1, 0, 1, 0.5)
-    f_half = nusselt.view_factor(floor, rect(0, 1, 0, 1, 0.5, flip=True), method="analytic")
+    # Howell's C-11, aligned parallel rectangles a x b at distance c (X = a/c, Y = b/c)
+    X = Y = 2.0
+    f_half = 2 / (np.pi * X * Y) * (
+        np.log(np.sqrt((1 + X * X) * (1 + Y * Y) / (1 + X * X + Y * Y)))
+        + X * np.sqrt(1 + Y * Y) * np.arctan(X / np.sqrt(1 + Y * Y))
+        + Y * np.sqrt(1 + X * X) * np.arctan(Y / np.sqrt(1 + X * X)) - X * np.arctan(X) - Y * np.arctan(Y))
+    assert f_half == pytest.approx(0.4152532835771469, rel=1e-14)  # C-11 at c = 1/2
     scene = nusselt.Scene.from_polygons([floor, ceiling, plate], two_sided=[2])
     res = nusselt.form_factors(scene)
     d = res.dense()
