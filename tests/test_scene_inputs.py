@@ -354,3 +354,17 @@ def test_concave_faces_overlap_by_area_not_by_hull():
     nusselt.Scene.from_polygons([ell, notch, cover])
     with pytest.raises(ValueError, match=r"face 0 and face 2 lie in one plane.*overlap \(0.75 of"):
         nusselt.Scene.from_polygons([ell, notch, rect(0.5, 1.5, 0.5, 1.5), cover])
+
+
+def test_threshold_that_empties_rows_does_not_warn():
+    # far apart plates see each other a little; a threshold above that empties both rows
+    floor, ceiling = rect(0, 1, 0, 1, 0.0), rect(0, 1, 0, 1, 50.0, flip=True)
+    scene = nusselt.Scene.from_polygons([floor, ceiling])
+    with pytest.warns(nusselt.ZeroRowWarning):
+        from nusselt.checks import warn_zero_rows
+
+        warn_zero_rows(scene, np.zeros((2, 2)), np.arange(2))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        res = nusselt.form_factors(scene, threshold=1e-3)
+    assert res.matrix.nnz == 0 and res.info["dropped"] > 0

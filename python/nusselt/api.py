@@ -193,7 +193,8 @@ def form_factors(
         matrix, std, lost = assembly.assemble_rows(done, col_of, nr, value_type)
         if threshold > 0.0:
             matrix, std, dropped = assembly.threshold_matrix(matrix, std, threshold)
-    warn_zero_rows(scene, matrix, recv)
+    if threshold == 0.0:  # a threshold may empty a row legitimately
+        warn_zero_rows(scene, matrix, recv)
     names = [f"{scene.surface_names[scene.surface[k]]}[{k}]" for k in recv]
     result = FormFactors(
         matrix.toarray() if dense else matrix,
