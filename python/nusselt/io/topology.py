@@ -170,14 +170,14 @@ def _winding(points: np.ndarray, vertices: np.ndarray, faces: list[np.ndarray]) 
     return out
 
 
-def _encloses_all(s: int, sh: Shells, vertices: np.ndarray, faces: list[np.ndarray]) -> bool:
+def _encloses_all(s: int, sh: Shells, vertices: np.ndarray, faces: list[np.ndarray], bounds: np.ndarray) -> bool:
     """Whether closed shell ``s`` holds every other face of the scene inside it: bounding
     box first, then the winding number about the centre of up to 64 other shells."""
     mine = np.flatnonzero(sh.label == s)
     vm = np.unique(np.concatenate([faces[k] for k in mine]))
     lo, hi = vertices[vm].min(axis=0), vertices[vm].max(axis=0)
     tol = 1e-9 * float(np.linalg.norm(hi - lo))
-    if ((vertices < lo - tol) | (vertices > hi + tol)).any():
+    if (bounds[0] < lo - tol).any() or (bounds[1] > hi + tol).any():
         return False
     others = [o for o in range(sh.count) if o != s]
     if not others:
@@ -245,7 +245,9 @@ def orient_faces(vertices: np.ndarray, faces: list[np.ndarray], orient: str = "a
         flip_shell = sh.closed & (sh.volume * want < 0)
     else:
         cand = np.flatnonzero(sh.closed & (sh.volume > 0))
-        enclosing = [s for s in cand if _encloses_all(int(s), sh, vertices, faces)]
+        used = np.unique(np.concatenate(faces))
+        bounds = np.stack([vertices[used].min(axis=0), vertices[used].max(axis=0)])  # of the scene's faces
+        enclosing = [s for s in cand if _encloses_all(int(s), sh, vertices, faces, bounds)]
         if orient == "auto":
             flip_shell[enclosing] = True
         else:
