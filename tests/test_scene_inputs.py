@@ -36,6 +36,7 @@ def test_outward_room_is_turned_inward_by_default():
     v, f = shared_vertices(polys)
     scene = nusselt.Scene(v, f)
     assert len(scene.meta["orient"]["flipped"]) == 6
+    assert scene.with_obstruction([0]).meta["orient"]["flipped"] == scene.meta["orient"]["flipped"]
     res = nusselt.form_factors(scene)
     d = res.dense()
     assert res.closure_error < 1e-12

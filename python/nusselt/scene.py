@@ -301,7 +301,8 @@ class Scene:
         self.emissivity = None if emis is None else _frozen(emis)
         self.source = source
         info = dict(meta or {})
-        info["orient"] = orient_info
+        if orient != "as-is" or "orient" not in info:  # a changed copy keeps what its origin turned
+            info["orient"] = orient_info
         if dropped:
             info["repair"] = dropped
         self.meta = types.MappingProxyType(info)  # read-only view (what the reader kept)
