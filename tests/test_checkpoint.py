@@ -233,3 +233,18 @@ def test_a_removal_stopped_half_way_leaves_a_checkpoint_that_resumes(tmp_path, m
     monkeypatch.setattr(os, "unlink", real_unlink)
     assert (path / "manifest.json").exists()
     assert np.array_equal(_run(scene, path, resume=True).matrix.data, ref.matrix.data)
+
+
+def test_a_checkpoint_in_use_by_another_run_is_refused(tmp_path):
+    scene = _scene(2)
+    run = ck.describe_run(scene, "auto", {}, "pairs", 200, 3)
+    first = ck.Checkpoint(tmp_path / "ck", run, resume=False)
+    try:
+        code = ("import fcntl, os, sys\nfd = os.open(sys.argv[1], os.O_RDWR)\n"
+                "try:\n    fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)\nexcept BlockingIOError:\n    sys.exit(3)\n")
+        p = subprocess.run([sys.executable, "-c", code, str(tmp_path / "ck" / "lock")], check=False)
+        assert p.returncode == 3  # another process cannot take it
+        with pytest.raises(ValueError, match="in use by another running nusselt"):
+            ck.Checkpoint(tmp_path / "ck", run, resume=True)  # flock: per open file, so here too
+    finally:
+        first.close()

@@ -167,9 +167,12 @@ class Checkpoint:
         fd = os.open(os.path.join(self.path, "lock"), os.O_RDWR | os.O_CREAT, 0o666)
         try:
             fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
-        except OSError:
+        except BlockingIOError:
             os.close(fd)
             raise ValueError(f"checkpoint {self.path} is in use by another running nusselt") from None
+        except OSError:  # a file system without locks (some NFS): go on unlocked
+            os.close(fd)
+            return
         self._lock_fd = fd
 
     def close(self) -> None:
