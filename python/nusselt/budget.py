@@ -123,12 +123,17 @@ def check_disk(path: str, n: int, *, kind: str, threshold: float, dtype, with_st
         free = shutil.disk_usage(d).free
     except OSError:
         return
-    need = file_bytes(n, kind=kind, threshold=threshold, dtype=dtype, with_std=with_std)
+    result = file_bytes(n, kind=kind, threshold=threshold, dtype=dtype, with_std=with_std)
+    held = 0
     if checkpoint:
+        # the checkpoint keeps every block as computed, before any threshold (a resume may
+        # choose another one): the upper triangle for pair methods, whole rows otherwise
         e = max_entries(n, 0.0, kind)
-        need += (e // 2 if kind == "pairs" else e) * entry_bytes(np.float64, with_std)
-    if need > free:
+        held = (e // 2 if kind == "pairs" else e) * entry_bytes(np.float64, with_std)
+    if result + held > free:
         raise OSError(
-            f"{path}: the result (with its checkpoint) may need {_gib(need)} on disk but {_gib(free)} are free in {d}; "
-            "a sparse threshold (--threshold) and --float32 make it smaller, --compress smaller still"
+            f"{path}: the run may need {_gib(result + held)} on disk ({_gib(result)} for the result, "
+            f"{_gib(held)} for its checkpoint of finished blocks) but {_gib(free)} are free in {d}; "
+            "--threshold and --float32 make the result smaller (--compress smaller still); the checkpoint "
+            "needs a disk with room for every pair"
         )
