@@ -108,3 +108,26 @@ def test_cli_dask_local(tmp_path):
     assert main(["matrix", str(obj), "-o", str(out_far), "-q", "--block-size", "50", "--dask", "local:1"]) == 0
     a, b = nusselt.io.load_npz(out_local), nusselt.io.load_npz(out_far)
     assert np.array_equal(a["matrix"].toarray(), b["matrix"].toarray())
+
+
+def test_a_distributed_run_resumes_from_its_checkpoint(client, tmp_path):
+    scene = _scene()
+    ckdir = tmp_path / "ck"
+    first = nusselt.form_factors(scene, block_size=150, client=client, checkpoint=ckdir)
+    blocks = sorted(ckdir.glob("block_*.npz"))
+    for p in blocks[::2]:
+        p.unlink()  # as a client killed mid-run leaves it
+    saved = []
+    orig = ck.Checkpoint.save
+
+    def spy(self, k, b):
+        saved.append(k)
+        orig(self, k, b)
+
+    try:
+        ck.Checkpoint.save = spy
+        again = nusselt.form_factors(scene, block_size=150, client=client, checkpoint=ckdir, resume=True)
+    finally:
+        ck.Checkpoint.save = orig
+    _same(first, again)
+    assert sorted(saved) == list(range(0, len(blocks), 2))  # only the missing blocks were computed
