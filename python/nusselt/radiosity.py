@@ -160,3 +160,38 @@ def _shoot(fs, areas, rho, e, tol, max_iter):
         power[j] = areas[j] * unshot[j].sum(axis=1)
     raise ValueError(f"radiosity shooting did not reach tol {tol:g} in {limit} shots "
                      f"(unshot {np.abs(unshot).max() / np.abs(b).max():.2e}); use method='direct'")
+
+
+# --------------------------------------------------------------------------------------
+# the Cornell box in colour
+
+#: Approximate linear-RGB diffuse reflectances of the Cornell box surfaces, from the measured
+#: spectra of the Cornell Program of Computer Graphics "Cornell Box Data"
+#: (https://www.graphics.cornell.edu/online/box/data.html) averaged over roughly 600-700 nm (R),
+#: 500-600 nm (G) and 400-500 nm (B): the values widely used in renderer test scenes.
+CORNELL_REFLECTANCE = {
+    "white": (0.73, 0.71, 0.68),
+    "red": (0.63, 0.065, 0.05),
+    "green": (0.14, 0.45, 0.091),
+}
+#: The light's emitted exitance in the same bands (warm white, arbitrary units; the published
+#: emission spectrum rises steeply towards the red).
+CORNELL_EMISSION = (17.0, 12.0, 4.0)
+
+
+def cornell_colours(scene) -> tuple[np.ndarray, np.ndarray]:
+    """(reflectance, emission), (n, 3) each, for a scene whose surface names follow the bundled
+    ``cornell_box.obj`` (``red``, ``green``, ``light``; everything else white)."""
+    names = [scene.surface_names[s] for s in scene.surface]
+    rho = np.array([CORNELL_REFLECTANCE.get(n, CORNELL_REFLECTANCE["white"]) for n in names], float)
+    emit = np.array([CORNELL_EMISSION if n == "light" else (0.0, 0.0, 0.0) for n in names], float)
+    rho[np.array([n == "light" for n in names], bool)] = 0.78
+    return rho, emit
+
+
+def display_colours(b: np.ndarray, emission: np.ndarray, *, gamma: float = 2.2) -> np.ndarray:
+    """Tone mapping for a picture (not physics): radiosity scaled so the brightest non-emitting
+    patch is white, clipped (emitters saturate), then display gamma."""
+    lit = ~(np.asarray(emission).sum(axis=1) > 0)
+    top = float(b[lit].max()) if lit.any() and b[lit].max() > 0 else float(b.max() or 1.0)
+    return np.clip(b / top, 0.0, 1.0) ** (1.0 / gamma)
