@@ -6,7 +6,7 @@
 >>> result = nusselt.form_factors(scene)                  # F[i, j], row = source
 """
 
-from . import io, sensors, sky
+from . import exchange, io, radiosity, sensors, sky
 from ._core import __version__
 from .api import form_factors, point_view_factor, view_factor
 from .methods import METHODS
@@ -16,5 +16,5 @@ from .io import load_npz, read_scene
 from .scene import NusseltWarning, OrientationWarning, RepairWarning, Scene
 from .checks import ZeroRowWarning
 
-__all__ = ["Scene", "FormFactors", "METHODS", "form_factors", "view_factor", "point_view_factor", "point_view_factors", "sensors", "sky", "load_npz", "read_scene", "io", "__version__",
+__all__ = ["Scene", "FormFactors", "METHODS", "form_factors", "view_factor", "point_view_factor", "point_view_factors", "sensors", "sky", "exchange", "radiosity", "load_npz", "read_scene", "io", "__version__",
            "NusseltWarning", "OrientationWarning", "RepairWarning", "ZeroRowWarning"]

@@ -78,12 +78,16 @@ def cmd_demo(args) -> int:
     print(f"Light row on {len(fine)} patches (edges <= {args.refine:g} mm): sum {f_light.sum():.8f}, "
           f"differs from the surface row by {check:.1e} (additivity) ({t2 - t1:.1f} s)")
     image = render(polys, f_to_light, eye=(278.0, 273.0, -800.0), look=(0.0, 0.0, 1.0), up=(0.0, 1.0, 0.0),
-                   fov_deg=39.3, size=args.size)
+                   fov_deg=39.3, size=args.size, label="F to light", smooth=True, groups=fine.surface)
     out = os.path.abspath(args.output)
     write_png(out, image)
     lo, hi = value_range(f_to_light)
     print(f"wrote {out}: every patch coloured by its form factor to the light (colour bar on the right, "
           f"log scale {10**lo:.1e} .. {10**hi:.1e}; darkest = smaller or 0, i.e. in shadow; the light grey)")
+    from .cli_radiation import colour_picture
+
+    colour = os.path.splitext(out)[0] + "_colour.png"
+    print(colour_picture(fine, colour, eye=(278.0, 273.0, -800.0), size=args.size))
     return 0
 
 
@@ -358,6 +362,9 @@ def build_parser() -> argparse.ArgumentParser:
     from .cli_sensors import add_sensors_parser
 
     add_sensors_parser(sub)
+    from .cli_radiation import add_radiation_parsers
+
+    add_radiation_parsers(sub)
     return p
 
 
