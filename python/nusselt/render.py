@@ -140,11 +140,12 @@ def colour_bar(height: int, lo: float, hi: float, *, log: bool, label: str = "",
     when ``log``), with ``ticks`` labelled tick marks and ``label`` at the top, in the built-in
     bitmap font (so no plotting library is needed)."""
     scale = max(1, height // 256)
-    pad, strip_w, text_w = 8, 24, 6 * 4 * scale * 2 + 8
+    pad, strip_w, glyph = 8, 24, 8 * scale  # a glyph advances 4 font pixels of 2 x scale
+    width = max(pad + strip_w + 12 + 8 * glyph, 4 + len(label) * glyph)  # ticks up to "-1.0e-3"
     top = 9 * scale * (2 if label else 1) + 4
     bottom = 6 * scale
     h = height - top - bottom
-    out = np.empty((height, pad + strip_w + 4 + text_w, 3))
+    out = np.empty((height, width, 3))
     out[:] = background
     bar = np.linspace(1, 0, h)[:, None]
     out[top : top + h, pad : pad + strip_w] = np.repeat(colormap(bar), strip_w, axis=1)
