@@ -34,8 +34,6 @@ import os
 import time
 
 import numpy as np
-import scipy.sparse as sp
-import scipy.sparse.linalg as spla
 
 import nusselt
 from nusselt.cli import bundled
@@ -58,15 +56,8 @@ def colours(scene: nusselt.Scene) -> tuple[np.ndarray, np.ndarray]:
 
 
 def solve_radiosity(f, rho: np.ndarray, emit: np.ndarray) -> np.ndarray:
-    """B (n, 3): for each channel c, solve (I - diag(rho_c) F) B_c = E_c."""
-    f = sp.csr_array(f)
-    n = f.shape[0]
-    eye = sp.identity(n, format="csc")
-    out = np.empty((n, 3))
-    for c in range(3):
-        a = (eye - sp.diags(rho[:, c]) @ f).tocsc()
-        out[:, c] = spla.spsolve(a, emit[:, c])
-    return out
+    """B (n, 3): for each channel c, (I - diag(rho_c) F) B_c = E_c (nusselt.radiosity, sparse LU)."""
+    return nusselt.radiosity.solve(f, rho, emit, method="direct").radiosity
 
 
 def surface_radiosity(b: np.ndarray, scene: nusselt.Scene) -> dict[str, np.ndarray]:

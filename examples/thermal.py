@@ -10,7 +10,7 @@ What it shows (for thermal / building engineers):
    (View3D's ``cmb`` field), and its footprint is cut out of the floor by a null surface.
 2. Form factors with ``method="auto"`` (exact visible regions for the pairs the cabinet may
    block), aggregated to the named surfaces, with the reciprocity and closure checks.
-3. The grey-body (net radiation) method: radiosities J from
+3. The grey-body (net radiation) method with :func:`nusselt.exchange.solve`: radiosities J from
 
        sum_j (delta_ij - (1 - eps_i) F_ij) J_j = eps_i sigma T_i^4,
 
@@ -98,15 +98,6 @@ TEMPERATURE_C = {
 }
 
 
-def radiosity_exchange(f: np.ndarray, areas: np.ndarray, eps: np.ndarray, t_kelvin: np.ndarray):
-    """Grey diffuse enclosure: returns radiosity J (W/m2), net flux q (W/m2) and Q = A q (W)."""
-    n = len(areas)
-    a = np.eye(n) - (1.0 - eps)[:, None] * f
-    j = np.linalg.solve(a, eps * SIGMA * t_kelvin**4)
-    q = j - f @ j  # leaving minus arriving, per unit area of the surface
-    return j, q, areas * q
-
-
 def main(argv=None) -> int:
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("--outdir", help="directory for office.vs3, office.idf and office.txt "
@@ -137,10 +128,10 @@ def main(argv=None) -> int:
     assert surf.reciprocity_error < 1e-12 and surf.closure_error < 1e-4
 
     # 3. grey-body radiant exchange between the named surfaces
-    f = surf.dense()
     eps = scene.emissivity[surf.faces]  # the .vs3 emissivities, one per named surface
     t_k = np.array([TEMPERATURE_C[name] for name in surf.names]) + 273.15
-    j, q, big_q = radiosity_exchange(f, surf.areas, eps, t_k)
+    ex = nusselt.exchange.solve(surf, eps, t_k)  # net-radiation method, closed enclosure
+    j, q, big_q = ex.radiosity, ex.flux, ex.heat
     print("\nnet radiation (positive: the surface loses heat by radiation)")
     print(f"{'surface':12s} {'area m2':>8s} {'eps':>5s} {'T C':>6s} {'J W/m2':>8s} {'q W/m2':>8s} {'Q W':>8s}")
     for k, name in enumerate(surf.names):
