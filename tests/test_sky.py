@@ -114,3 +114,19 @@ def test_errors():
         sky.sky_view_factors_points([[0, 0, 1]], [0, 0, 0], scene)
     with pytest.raises(TypeError, match="expected a Scene or a FormFactors"):
         sky.sky_view_factors("scene.obj")
+
+
+def test_patch_rows_to_sky_patches():
+    # canyon patches over a ground that reaches far enough for the lower hemisphere to be covered:
+    # the sum over the sky patches is the patch's sky view factor up to the sampling of edges
+    base = nusselt.Scene.from_polygons(canyon(1.0, 0.8, 3.0)).refined(0.5)
+    ground = rect([-2000, -2000, -1e-6], [4000, 0, 0], [0, 4000, 0])
+    scene = nusselt.Scene.from_polygons(base.polygons + [ground], obstruction=[False] * len(base) + [True])
+    pts, w, col = sky.patch_quadrature(scene, 3)
+    assert np.bincount(col, w) == pytest.approx(scene.areas[scene.receivers], rel=1e-13)
+    f = sky.sky_patch_factors_patches(scene, nodes=8, order=4)
+    assert f.shape == (len(base), 145)
+    assert np.abs(f.sum(axis=1) - sky.sky_view_factors(scene, order=10)).max() < 3e-3  # 1.3e-3 measured
+    # a lone horizontal plate sees every sky patch unobstructed: the closed form exactly
+    plate = nusselt.Scene.from_polygons([rect([0, 0, 0], [1, 0, 0], [0, 1, 0])])
+    assert sky.sky_patch_factors_patches(plate)[0] == pytest.approx(sky.tregenza().horizontal_factors(), rel=1e-12)

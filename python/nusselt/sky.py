@@ -243,3 +243,45 @@ def sky_patch_factors(points, normals, scene: Scene | None, sky: SkyPatches | No
         frac = np.divide(seen, total, out=np.zeros_like(seen), where=total > 0)
         out[s:s + step] = free[s:s + step] * frac
     return out
+
+
+def patch_quadrature(scene: Scene, order: int = 3) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Gauss points on every receiving patch: (points (Q, 3), weights (Q,) in area units,
+    patch column (Q,)). Each triangle of a patch (ear clipping, concave patches too) gets the
+    collapsed Gauss-Legendre rule x = a + u (b - a) + u v (c - b), dA = 2 A_tri u du dv, with
+    ``order`` points per direction."""
+    if not (isinstance(order, (int, np.integer)) and 1 <= order <= 32):
+        raise ValueError(f"order must be an integer in 1..32, got {order!r}")
+    g, w = _gauss(int(order))
+    uu, vv = np.meshgrid(g, g, indexing="ij")
+    ww = (w[:, None] * w[None, :] * uu).ravel()
+    uu, vv = uu.ravel(), vv.ravel()
+    pts, wts, col = [], [], []
+    for c, k in enumerate(scene.receivers):
+        v = scene.vertices[scene.faces[k]]
+        for i, j, l in scene._core.triangulate(int(k)):
+            a, b, cc = v[i], v[j], v[l]
+            area2 = np.linalg.norm(np.cross(b - a, cc - a))
+            pts.append(a + uu[:, None] * (b - a) + (uu * vv)[:, None] * (cc - b))
+            wts.append(area2 * ww)
+            col.append(np.full(len(ww), c))
+    if not pts:
+        return np.zeros((0, 3)), np.zeros(0), np.zeros(0, dtype=np.int64)
+    return np.concatenate(pts), np.concatenate(wts), np.concatenate(col)
+
+
+def sky_patch_factors_patches(scene: Scene, sky: SkyPatches | None = None, *, order: int = 3, nodes: int = 4) -> np.ndarray:
+    """F from every receiving patch (rows in the order of ``scene.receivers``) to each sky
+    patch, obstructed by the scene: :func:`sky_patch_factors` at the points of
+    :func:`patch_quadrature` (each with its patch's normal), area-weighted. The points lie on
+    the patch, whose own plane does not block them (rays start 1e-9 of the scene's size off
+    it). Shape (n_receivers, n_patches)."""
+    sky = sky or tregenza()
+    pts, wts, col = patch_quadrature(scene, order)
+    normals = scene.normals[scene.receivers][col]
+    f = sky_patch_factors(pts, normals, scene, sky, nodes=nodes)
+    out = np.zeros((len(scene.receivers), len(sky)))
+    np.add.at(out, col, f * wts[:, None])
+    area = np.zeros(len(scene.receivers))
+    np.add.at(area, col, wts)
+    return out / area[:, None]
