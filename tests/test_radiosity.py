@@ -1,5 +1,7 @@
 """Radiosity (nusselt.radiosity): every method against a dense direct solve, furnace, energy."""
 
+import warnings
+
 import numpy as np
 import pytest
 
@@ -72,3 +74,22 @@ def test_shooting_plain_matrix_and_bad_input():
         radiosity.solve(f, rho, [[1.0, 0.0]])
     with pytest.raises(ValueError, match="did not reach"):
         radiosity.solve(f, rho, e, method="jacobi", tol=1e-15, max_iter=2)
+
+
+def test_cornell_box_colour_bleeding():
+    # White floor patches next to the red wall (x near 556 mm) reflect redder light than those
+    # next to the green wall (x near 0): the red/green ratio of B must differ by a wide margin.
+    from nusselt.cli import bundled
+
+    scene = nusselt.Scene.from_file(bundled("cornell_box.obj")).refined(150.0)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", nusselt.ZeroRowWarning)  # floor patches hidden under the blocks
+        f = nusselt.form_factors(scene, method="hemicube", resolution=64)
+    rho, e = radiosity.cornell_colours(scene)
+    b = radiosity.solve(f, rho, e, method="gauss-seidel", tol=1e-9).radiosity
+    names = [scene.surface_names[s] for s in scene.surface]
+    x = np.array([np.asarray(p)[:, 0].mean() for p in scene.polygons])
+    floor = np.array([n == "floor" for n in names]) & (b[:, 1] > 0)
+    near_red, near_green = floor & (x > 420), floor & (x < 136)
+    ratio = lambda m: b[m, 0].sum() / b[m, 1].sum()
+    assert ratio(near_red) > 1.4 * ratio(near_green)

@@ -136,8 +136,8 @@ _SINGULAR = ("the reflection system I - rho F is singular: the enclosure is clos
 def gebhart(F, emissivity) -> np.ndarray:
     """Gebhart absorption factors ``G[i, j]`` (dense (n, n)): the fraction of the energy emitted
     by surface i that surface j absorbs, directly and after diffuse reflections,
-    ``G = (I - F diag(1 - eps))^-1 F diag(eps)``. Rows sum to 1 in a closed enclosure (to
-    ``sum_j F[i, j]``-weighted escape otherwise: ``1 - sum_j G[i, j]`` leaves an open scene).
+    ``G = (I - F diag(1 - eps))^-1 F diag(eps)``. Rows sum to 1 in a closed enclosure; in an
+    open scene ``1 - sum_j G[i, j]`` is the fraction of i's emission that escapes.
     ``F`` is a dense or sparse (n, n) matrix or a :class:`nusselt.FormFactors`."""
     m, _, _ = _matrix(F)
     _check_rows(m)
