@@ -82,7 +82,7 @@ S  5  13 16 15 14   3   0   0.95  radiator        ! sub-surface of the south wal
 S  6   3  7  8  4   0   0   0.90  north_wall
 S  7   2  6  7  3   0   0   0.90  east_wall
 S  8   4  8  5  1   0   0   0.90  west_wall
-N  9  17 18 19 20   1   0   0.00  footprint       ! null surface: a hole in the floor (base 1)
+N  9  17 20 19 18   1   0   0.00  footprint       ! null surface: a hole in the floor (base 1), facing down as View3D wants
 S 10  21 22 23 24   0   0   0.80  cabinet         ! top
 S 11  17 21 24 20   0  10   0.80  cabinet_west    ! sides, combined into surface 10 (cmb)
 S 12  18 19 23 22   0  10   0.80  cabinet_east
