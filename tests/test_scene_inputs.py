@@ -115,6 +115,35 @@ def test_zero_row_where_a_face_lies_in_front_warns():
         assert nusselt.form_factors(away).matrix.nnz == 0
 
 
+def test_patches_hidden_under_a_block_do_not_warn_but_a_reversed_surface_does():
+    # floor tiles under an open-bottomed box that stands on them see only its inside (F = 0,
+    # correctly); the rest of the floor sees the ceiling, so nothing is reversed
+    tiles = [rect(x, x + 0.5, y, y + 0.5) for x in (0.0, 0.5) for y in (0.0, 0.5)]
+    ceiling = rect(0, 1, 0, 1, 1.0, flip=True)
+    box = [np.array(q, float)[::-1] for q in (  # outward
+        [[0, 0, 0], [0, 0.5, 0], [0, 0.5, 0.3], [0, 0, 0.3]],
+        [[0.5, 0, 0], [0.5, 0, 0.3], [0.5, 0.5, 0.3], [0.5, 0.5, 0]],
+        [[0, 0, 0], [0, 0, 0.3], [0.5, 0, 0.3], [0.5, 0, 0]],
+        [[0, 0.5, 0], [0.5, 0.5, 0], [0.5, 0.5, 0.3], [0, 0.5, 0.3]],
+        [[0, 0, 0.3], [0, 0.5, 0.3], [0.5, 0.5, 0.3], [0.5, 0, 0.3]])]
+    polys = tiles + [ceiling] + box
+    names = ["floor"] * 4 + ["ceiling"] + ["box"] * 5
+    scene = nusselt.Scene.from_polygons(polys, surface=names)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        f = nusselt.form_factors(scene).dense()
+    assert f[0].sum() < 1e-6 * f[1].sum() and f[1:4].sum(axis=1).min() > 0.1
+    from nusselt.checks import warn_zero_rows
+
+    f[0] = 0.0  # the hidden tile's row as an exact method gives it: no warning
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        warn_zero_rows(scene, f, np.arange(10))
+    f[:4] = 0.0  # every floor row lost: the floor surface is suspicious
+    with pytest.warns(nusselt.ZeroRowWarning, match="4 of 10 rows are 0"):
+        warn_zero_rows(scene, f, np.arange(10))
+
+
 # --- item 2: duplicated and overlapping coplanar faces -----------------------------------
 
 def test_doubled_mesh_is_refused_naming_both_faces():

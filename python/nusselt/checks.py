@@ -59,6 +59,13 @@ def warn_zero_rows(scene: Scene, matrix, faces: np.ndarray, *, stacklevel: int =
         checked = zero[np.unique(np.linspace(0, len(zero) - 1, max(1, _BUDGET // nr)).astype(np.int64))]
     faces = np.asarray(faces)
     bad = checked[facing_partner(scene, faces[checked], faces)]
+    # A face turned the wrong way empties its whole surface; patches of a surface whose other
+    # patches see something are hidden, not reversed (floor tiles under a block that stands
+    # on them), so only surfaces with every row 0 are suspicious.
+    surface = np.asarray(scene.surface)[faces]
+    seen = np.zeros(int(surface.max()) + 1, dtype=bool)
+    seen[surface[np.setdiff1d(np.arange(nr), zero, assume_unique=True)]] = True
+    bad = bad[~seen[surface[bad]]]
     backs = m.nnz == 0 and not len(bad)
     if backs:
         bad = checked[facing_partner(scene, faces[checked], faces, backs=True)]
@@ -74,6 +81,6 @@ def warn_zero_rows(scene: Scene, matrix, faces: np.ndarray, *, stacklevel: int =
                "two_sided for plates (nusselt matrix --orient ...)")
     else:
         msg = (f"{len(bad)} of {nr} rows are 0{sampled} although another face lies in front of each "
-               f"({first} first): those faces probably face the wrong way (or are hidden "
-               "entirely behind other faces); see orient and two_sided in the guide")
+               f"({first} first): every row of their surfaces is 0: those faces probably face the "
+               "wrong way (or are hidden entirely behind other faces); see orient and two_sided in the guide")
     warnings.warn(f"{scene.source + ': ' if scene.source else ''}{msg}", ZeroRowWarning, stacklevel=stacklevel)
