@@ -206,8 +206,12 @@ def test_write_result_dispatch(tmp_path):
     v = nio.read_view3d_output(tmp_path / "r.txt")
     s = res.by_surface()
     assert v["matrix"].shape == (9, 9)  # 10 surfaces minus the obstruction
-    np.testing.assert_allclose(v["matrix"], s.dense(), atol=5e-7)
-    np.testing.assert_allclose(v["emissivity"], [0.9, 0.8, 0.9, 0.7, 0.9, 0.84, 0.6, 0.9, 0.9])
+    # the file says emit=1: View3D then writes script-F of the emissivities
+    em = np.array([0.9, 0.8, 0.9, 0.7, 0.9, 0.84, 0.6, 0.9, 0.9])
+    assert v["emit"] == 1
+    from nusselt.exchange import script_f
+    np.testing.assert_allclose(v["matrix"], script_f(s.dense(), em), atol=5e-7)
+    np.testing.assert_allclose(v["emissivity"], em)
     # EnergyPlus: always per surface, zone named after the scene file
     nio.write_result(tmp_path / "r.idf", res, scene=scene)
     fields = parse_idf((tmp_path / "r.idf").read_text())

@@ -32,6 +32,7 @@ from __future__ import annotations
 
 import math
 import re
+import warnings
 
 import numpy as np
 
@@ -39,6 +40,20 @@ from . import _planar
 from .scenedata import SceneData, check_readable, parse_error
 
 _INT_CONTROLS = {"maxu", "maxo", "mino", "row", "col", "encl", "emit", "out", "list", "prjd", "maxv"}
+# View3D 3.2's control words (getdat.c GetCtrl) and what nusselt does with them.
+_HONOURED = {"encl", "emit"}
+_ALGORITHM_CONTROLS = {
+    "eps": "View3D's adaptive-integration convergence limit; nusselt's methods are exact or take their own "
+           "tolerances (e.g. --option obstructed_tol=...)",
+    "maxu": "View3D's recursion limit for unobstructed pairs; not used by nusselt",
+    "maxo": "View3D's recursion limit for obstructed pairs; not used by nusselt",
+    "mino": "View3D's minimum recursions for obstructed pairs; not used by nusselt",
+    "prjd": "View3D's projection-direction switch; not used by nusselt",
+    "list": "View3D's log detail; not used by nusselt",
+    "row": "View3D then computes only that row (and prints it to its log); nusselt computes the whole matrix",
+    "col": "View3D then computes only that entry; nusselt computes the whole matrix",
+    "out": "View3D's output format; nusselt's output format follows the output file's extension",
+}
 _SHAPE_NUMBERS = {"R": 2, "T": 6, "Q": 8}
 _KIND_WORD = {"S": "surface", "M": "mask surface", "N": "null surface", "O": "obstruction surface"}
 
@@ -184,10 +199,20 @@ def read_view3d(path: str) -> SceneData:
                 raise err(no, f"control {words[-1]!r} has no value (write name=value)")
             for name, value in zip(words[::2], words[1::2]):
                 key = name.lower()
+                if key not in _HONOURED and key not in _ALGORITHM_CONTROLS:
+                    # View3D warns "Invalid control word" and goes on (getdat.c GetCtrl)
+                    warnings.warn(f"{path}, line {no}: control {name}={value} is not a View3D 3.2 control "
+                                  "(obsolete or misspelt); ignored, as View3D does", stacklevel=2)
+                    controls[name] = value
+                    continue
                 if key in _INT_CONTROLS:
                     controls[name] = as_int(value, no, f"control {name}")
                 else:
                     controls[name] = as_float(value, no, f"control {name}")
+                if key in _ALGORITHM_CONTROLS and not (key in ("row", "col", "out", "list", "prjd")
+                                                       and controls[name] == 0):
+                    warnings.warn(f"{path}, line {no}: control {name}={value} ignored: {_ALGORITHM_CONTROLS[key]}",
+                                  stacklevel=2)
         elif c == "F" or c == "X":
             continue
         elif c == "V":
@@ -383,9 +408,9 @@ def _cut_holes(base: _Surface, holes: list[_Surface], err) -> list[np.ndarray]:
         facing_same = a > 0
         if h.kind == "S" and not facing_same:
             raise err(h.line, f"sub-surface {h.number} must face the same way as its base {base.number}")
-        if h.kind == "M" and facing_same:
-            raise err(h.line, f"mask surface {h.number} must face the opposite way to its base {base.number} "
-                              "(View3D convention: list its vertices in the reverse order)")
+        if h.kind in "MN" and facing_same:
+            raise err(h.line, f"{_KIND_WORD[h.kind]} {h.number} must face the opposite way to its base "
+                              f"surface {base.number} (View3D convention: list its vertices in the reverse order)")
         if a < 0:
             q = q[::-1].copy()
         if not _is_convex(q, 1e-9 * size * size):
