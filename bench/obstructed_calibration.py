@@ -43,11 +43,17 @@ def main() -> None:
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--pairs", type=int, default=500)
     p.add_argument("--tol", type=float, nargs="+", default=[1e-3, 1e-5])
+    p.add_argument("--cache", default=None, help="file (.npy) to keep the pairs and references in")
     a = p.parse_args()
     rng = np.random.default_rng(7)
     specs = [scenes.building(), scenes.office()]
     t0 = time.perf_counter()
-    pairs = [(s, *q) for s in specs for q in obstructed_pairs(s, a.pairs // len(specs), rng)]
+    if a.cache and os.path.exists(a.cache):
+        pairs = [(specs[int(k)], int(i), int(j), free, ref) for k, i, j, free, ref in np.load(a.cache)]
+    else:
+        pairs = [(s, *q) for s in specs for q in obstructed_pairs(s, a.pairs // len(specs), rng)]
+        if a.cache:
+            np.save(a.cache, np.array([(specs.index(s), *q) for s, *q in pairs], float))
     print(f"{len(pairs)} obstructed pairs (references in {time.perf_counter() - t0:.0f} s)")
     for tol in a.tol:
         ratios, t0 = [], time.perf_counter()

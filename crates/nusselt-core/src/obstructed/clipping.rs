@@ -29,11 +29,18 @@ pub(super) fn clearance(p: &Polygon, blockers: &[&Polygon]) -> f64 {
 
 /// Relative targets from which the adaptive source integration computes a start piece's
 /// children only when the piece needs refining; until then its error estimate is twice the
-/// difference between the rule and the centroid rule (4 evaluations instead of 15). 300
+/// difference between the rule and the centroid rule (4 or 8 evaluations instead of 15 or 35).
+/// Most obstructed pairs stop at their kink-split start, so this sets the cost of a pair. 300
 /// obstructed room pairs (`obstructed_schemes`, 9/15/21 quads per wall edge) at tol 1e-2:
 /// largest error 1.0e-4/1.7e-4/4.1e-5 of the unobstructed F in 41/25/17 us per pair, against
-/// 8.7e-6/1.6e-5/4.3e-6 in 114/65/42 us with the full start.
-pub(super) const COARSE_START_TOL: f64 = 1e-2;
+/// 8.7e-6/1.6e-5/4.3e-6 in 114/65/42 us with the full start. 500 obstructed pairs of the
+/// building and office of bench/scenes.py (bench/obstructed_calibration.py, against clipping
+/// at 1e-11), error / (tol x unobstructed F): at tol 1e-3 largest 2.0 (1 pair above 1) with
+/// this start against 1.9 (1 pair) with the full one; at 1e-4 2.1 (3 pairs) against 2.1
+/// (6 pairs); at 1e-5 and 1e-6 at most 0.90 and 0.91. At 1e-7 3 pairs exceeded tol (1.96):
+/// below 1e-6 the full start is kept. The 391-surface building at obstructed_tol 1e-3: 17.9
+/// instead of 40.5 s of CPU, row sums within 5.8e-4 (5.7e-4).
+pub(super) const COARSE_START_TOL: f64 = 1e-6;
 
 /// Relative targets from which the adaptive source integration uses Strang and Fix's
 /// interior 3-point rule (degree 2) instead of Radon's 7 points (degree 5). The source is cut
