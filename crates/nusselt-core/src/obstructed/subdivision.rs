@@ -40,7 +40,7 @@ pub(super) fn subdivide_at_blockers(b: &Polygon, blockers: &[&Polygon], d: usize
 }
 
 /// Uniform subdivision: sum over pieces of Lambert's exact F to the piece times the piece's
-/// visibility at its centre (Wallace et al.'s better leaf estimator, algorithms.md 6.1).
+/// visibility at its centre (Wallace et al.'s better leaf estimator, docs/algorithms.md §6.1).
 pub(super) fn uniform_point(x: Vec3, n: Vec3, pieces: &[[Vec3; 3]], visible: &dyn Fn(Vec3) -> bool) -> f64 {
     pieces
         .iter()
