@@ -1,0 +1,285 @@
+//! Form factors with partial obstruction: the area methods of the lecture notes and the exact
+//! visible-region method, all behind one entry point per pair and per point.
+//!
+//! Every estimator here first asks the visibility engine for the pair's candidate blockers
+//! (a conservative shaft test). A pair with none is unobstructed and costs nothing extra.
+//!
+//! With `control_variate` (the default) the area-sampling estimators compute only the
+//! *blocked* part by sampling and subtract it from the exact unobstructed value:
+//!   A_i F_ij = G_exact - integral K (1 - V),
+//! which is exact for unblocked pairs and removes the 1/r^2 singularity of touching pairs
+//! from the sampled integrand (the blocked region lies away from shared edges).
+
+mod clipping;
+mod kinks;
+mod options;
+mod rules;
+mod sampled;
+mod subdivision;
+
+use crate::analytic;
+use crate::error::{Error, Result};
+use crate::geometry::{Polygon, Vec3};
+use crate::method::{self, Method, RuleCache};
+use crate::quadrature::AreaRule;
+use crate::sampling::{sobol4, PolygonSampler};
+use crate::visibility::shadow::{hides_whole, point_free_and_shadowed, point_shadowed_view_factor, point_visible_view_factor};
+use crate::visibility::{Occluders, Visibility};
+use clipping::{adaptive_over_source, clearance, ShadowTest};
+use kinks::split_at_kinks;
+use rules::{radon7, rule_points, source_points};
+use sampled::{cut_at_blocker_planes, kernel, mean_and_error, montecarlo, quadrature, stratum_samples, stratum_seed};
+use subdivision::{adaptive_point, subdivide_at_blockers, uniform_point};
+
+pub use clipping::MAX_SOURCE_EVALS;
+pub use options::{Estimate, VisMethod, VisOptions};
+
+/// What the estimators need of a scene: its polygons, its occluders with visibility over
+/// them (ids in `vis` are occluder ids), and cached area rules.
+pub struct Context<'a> {
+    pub polygons: &'a [Polygon],
+    pub occluders: &'a Occluders,
+    pub vis: &'a dyn Visibility,
+    pub rules: Option<&'a RuleCache>,
+}
+
+impl Context<'_> {
+    /// The occluders of the scene polygons `ids` (which cannot block their own pair).
+    fn ignore<const N: usize>(&self, ids: [usize; N]) -> [u32; N] {
+        ids.map(|k| self.occluders.owner[k])
+    }
+
+    fn blockers(&self, cand: &[u32]) -> Vec<&Polygon> {
+        cand.iter().map(|&k| &self.occluders.polygons[k as usize]).collect()
+    }
+}
+
+/// What the caller of [`pair_with`] already knows of a pair (scene rows compute these for
+/// whole rows at once).
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Known<'a> {
+    /// The unobstructed G as [`method::area_factor`] with `auto` at `exact_tol` gives it.
+    pub free: Option<f64>,
+    /// A superset of the pair's candidate blockers, sorted (see
+    /// [`Visibility::candidates_among`]).
+    pub among: Option<&'a [u32]>,
+}
+
+/// G_ij = A_i F_ij between polygons i and j of the scene, with visibility.
+pub fn pair(ctx: &Context, i: usize, j: usize, m: VisMethod, o: &VisOptions) -> Result<Estimate> {
+    pair_with(ctx, i, j, m, o, Known::default())
+}
+
+/// True when `m` computes a pair with nothing in between by the exact kernel (so a caller
+/// may compute such pairs itself, and [`Known::free`] is the answer for them).
+pub fn exact_when_unobstructed(m: VisMethod, o: &VisOptions) -> bool {
+    o.control_variate || !matches!(m, VisMethod::Quadrature | VisMethod::MonteCarlo)
+}
+
+/// [`pair`], using what the caller knows of the pair instead of computing it again.
+pub fn pair_with(ctx: &Context, i: usize, j: usize, m: VisMethod, o: &VisOptions, known: Known) -> Result<Estimate> {
+    let (a, b) = (&ctx.polygons[i], &ctx.polygons[j]);
+    if method::facing(a, b) == method::Facing::None {
+        return Ok(Estimate::exact(0.0));
+    }
+    let ignore = ctx.ignore([i, j]);
+    // Only the part of each polygon in front of the other exchanges radiation: the shaft and
+    // the source integration use those parts (a source point behind the receiver's plane
+    // sees nothing, and a thin strip of such points would escape a sampling rule).
+    let (ca, cb) = match clip_pair_polygons(a, b) {
+        Some(c) => c,
+        None => return Ok(Estimate::exact(0.0)),
+    };
+    let (sa, sb) = (ca.as_ref().unwrap_or(a), cb.as_ref().unwrap_or(b));
+    let mut cand = Vec::new();
+    match known.among {
+        Some(among) => ctx.vis.candidates_among(sa, sb, &ignore, among, &mut cand),
+        None => ctx.vis.candidates_between(sa, sb, &ignore, &mut cand),
+    }
+    let exact = || match known.free {
+        Some(g) => Ok(g),
+        None => {
+            let opts = method::Options { tol: o.exact_tol, ..Default::default() };
+            method::area_factor(a, b, Method::Auto, &opts, ctx.rules.map(|r| (r, i, j)))
+        }
+    };
+    if cand.is_empty() {
+        // Nothing can block: every method reduces to the unobstructed integral.
+        return Ok(match m {
+            _ if exact_when_unobstructed(m, o) => Estimate::exact(exact()?),
+            VisMethod::MonteCarlo => montecarlo(a, b, None, &[], o, i, j),
+            _ => Estimate::exact(quadrature(a, b, None, &[], o)),
+        });
+    }
+    let blockers = ctx.blockers(&cand);
+    if blockers.iter().any(|k| hides_whole(sa.vertices(), sb.vertices(), k)) {
+        return Ok(Estimate::exact(0.0));
+    }
+    let visible = |x: Vec3, y: Vec3| !ctx.vis.occluded(x, y, &ignore);
+    Ok(match m {
+        VisMethod::Quadrature => {
+            if o.control_variate {
+                Estimate::exact(exact()? - quadrature(a, b, Some(&|x, y| !visible(x, y)), &blockers, o))
+            } else {
+                Estimate::exact(quadrature(a, b, Some(&visible), &blockers, o))
+            }
+        }
+        VisMethod::MonteCarlo => {
+            if o.control_variate {
+                let e = montecarlo(a, b, Some(&|x, y| !visible(x, y)), &blockers, o, i, j);
+                Estimate { value: exact()? - e.value, std_err: e.std_err }
+            } else {
+                montecarlo(a, b, Some(&visible), &blockers, o, i, j)
+            }
+        }
+        VisMethod::Subdivision | VisMethod::Adaptive => {
+            let pieces = if m == VisMethod::Subdivision { Some(subdivide_at_blockers(b, &blockers, o.divisions)) } else { None };
+            let mut g = 0.0;
+            let points = match o.source_points {
+                Some(k) => source_points(sa, k),
+                None => {
+                    let r7 = radon7();
+                    split_at_kinks(sa, b, &blockers).iter().flat_map(|t| rule_points(&r7, t)).collect()
+                }
+            };
+            for (x, w) in points {
+                let f = match &pieces {
+                    Some(p) => uniform_point(x, a.normal(), p, &|y| visible(x, y)),
+                    None => adaptive_point(x, a.normal(), b, &|y| visible(x, y), o),
+                };
+                g += w * f;
+            }
+            Estimate::exact(g)
+        }
+        VisMethod::Clipping | VisMethod::Auto => {
+            match o.clip_source {
+                None => {
+                    // G = G_free - (integral of the shadowed part): the exact kernel handles
+                    // touching pairs, the adaptive rule refines along shadows only.
+                    // Relative target: blocked F <= unobstructed F, so an error of tol * G_free
+                    // is also within tol absolute, and small (distant) pairs cost little.
+                    let free = exact()?;
+                    if free <= 0.0 {
+                        return Ok(Estimate::exact(0.0));
+                    }
+                    // G is symmetric: integrate over the side the blockers keep farther from
+                    // (a blocker close above the source makes the shadowed F peak beneath it)
+                    let (src, rec, src_part, rec_part) =
+                        if clearance(a, &blockers) < clearance(b, &blockers) { (b, a, sb, sa) } else { (a, b, sa, sb) };
+                    let shadowed = |x: Vec3, bl: &[&Polygon]| point_shadowed_view_factor(x, src.normal(), rec, bl);
+                    let start = split_at_kinks(src_part, rec, &blockers);
+                    let test = ShadowTest::new(rec_part, &blockers);
+                    let hidden = adaptive_over_source(&start, &blockers, &shadowed, &test, o.tol * free, o);
+                    Estimate::exact((free - hidden).clamp(0.0, free))
+                }
+                Some(k) => {
+                    // Ratio estimator: the exact unobstructed G times the rule's visible
+                    // fraction of the point F. Exact for pairs fully hidden or not hidden at
+                    // all; a touching pair's steep kernel cancels in the ratio.
+                    let free = exact()?;
+                    let (mut vis, mut all) = (0.0, 0.0);
+                    for (x, w) in source_points(sa, k) {
+                        let (f_free, f_hidden) = point_free_and_shadowed(x, a.normal(), b, &blockers);
+                        vis += w * (f_free - f_hidden);
+                        all += w * f_free;
+                    }
+                    Estimate::exact(if all > 0.0 { (free * vis / all).clamp(0.0, free) } else { free })
+                }
+            }
+        }
+    })
+}
+
+/// The parts of a and b in front of each other, as polygons; `None` inside when a polygon is
+/// whole (nothing clipped), outer `None` when they exchange nothing.
+fn clip_pair_polygons(a: &Polygon, b: &Polygon) -> Option<(Option<Polygon>, Option<Polygon>)> {
+    let (va, vb) = crate::geometry::clip_pair(a, b)?;
+    let keep = |orig: &Polygon, v: Vec<Vec3>| {
+        if v.len() == orig.vertices().len() && v.iter().zip(orig.vertices()).all(|(p, q)| p == q) {
+            None
+        } else {
+            // a clipped sliver may fail validation (zero area); the whole polygon then serves,
+            // its points behind the plane contributing nothing
+            Polygon::with_tolerance(v, 1e-6).ok()
+        }
+    };
+    Some((keep(a, va), keep(b, vb)))
+}
+
+/// F from a differential area (p, unit n) to polygon j of the scene, with visibility.
+/// Nothing coplanar with the receiver blocks (see [`Occluders`]).
+pub fn point(ctx: &Context, p: Vec3, n: Vec3, j: usize, m: VisMethod, o: &VisOptions) -> Result<Estimate> {
+    let b = &ctx.polygons[j];
+    let ignore = &ctx.ignore([j]);
+    // Candidate blockers: a point is a degenerate source polygon, so test against a tiny
+    // triangle around p in its tangent plane.
+    let (t, s) = crate::geometry::tangent_frame(n);
+    let eps = 1e-9 * b.radius().max(p.distance(b.centroid()));
+    let src = match Polygon::new(vec![p + eps * t, p + eps * s, p - eps * (t + s)]) {
+        Ok(poly) => poly,
+        Err(_) => return Err(Error::InvalidArgument("point and normal must be finite".into())),
+    };
+    let mut cand = Vec::new();
+    ctx.vis.candidates_between(&src, b, ignore, &mut cand);
+    let lambert = analytic::point_polygon(p, n, b.vertices());
+    if cand.is_empty() {
+        return Ok(Estimate::exact(lambert));
+    }
+    let blockers = ctx.blockers(&cand);
+    if blockers.iter().any(|k| hides_whole(&[p], b.vertices(), k)) {
+        return Ok(Estimate::exact(0.0));
+    }
+    let visible = |y: Vec3| !ctx.vis.occluded(p, y, ignore);
+    Ok(match m {
+        VisMethod::Quadrature => {
+            let rules: Vec<AreaRule> = subdivide_at_blockers(b, &blockers, o.panels)
+                .into_iter()
+                .filter_map(|t| Polygon::new(t.to_vec()).ok())
+                .map(|t| AreaRule::new(&t, o.order))
+                .collect();
+            let sum = |pred: &dyn Fn(Vec3) -> bool| -> f64 {
+                rules
+                    .iter()
+                    .flat_map(|r| r.points.iter().zip(&r.weights))
+                    .filter(|(y, _)| pred(**y))
+                    .map(|(y, w)| w * kernel(p, n, *y, b.normal()))
+                    .sum()
+            };
+            if o.control_variate {
+                Estimate::exact(lambert - sum(&|y| !visible(y)))
+            } else {
+                Estimate::exact(sum(&visible))
+            }
+        }
+        VisMethod::MonteCarlo => {
+            // strata: the receiver's pieces cut along the blockers' planes, as in the pair form
+            let reps = 8usize;
+            let per = (o.samples / reps).max(1);
+            let strata: Vec<(PolygonSampler, f64, usize)> = cut_at_blocker_planes(b, &blockers)
+                .iter()
+                .map(|q| (PolygonSampler::new(q), q.area(), stratum_samples(per, q.area() / b.area())))
+                .collect();
+            let mut est = Vec::with_capacity(reps);
+            for r in 0..reps {
+                let mut mean = 0.0;
+                for (s, (sampler, area, count)) in strata.iter().enumerate() {
+                    let seed = stratum_seed(o.seed, [j as u64, u64::MAX, r as u64], s, strata.len());
+                    let mut acc = 0.0;
+                    for k in 0..*count {
+                        let u = sobol4(k as u32, seed);
+                        let y = sampler.sample([u[0], u[1]]);
+                        let blocked = !visible(y);
+                        let w = kernel(p, n, y, b.normal());
+                        acc += if o.control_variate { if blocked { w } else { 0.0 } } else if blocked { 0.0 } else { w };
+                    }
+                    mean += area * acc / *count as f64;
+                }
+                est.push(if o.control_variate { lambert - mean } else { mean });
+            }
+            mean_and_error(&est)
+        }
+        VisMethod::Subdivision => Estimate::exact(uniform_point(p, n, &subdivide_at_blockers(b, &blockers, o.divisions), &visible)),
+        VisMethod::Adaptive => Estimate::exact(adaptive_point(p, n, b, &visible, o)),
+        VisMethod::Clipping | VisMethod::Auto => Estimate::exact(point_visible_view_factor(p, n, b, &blockers)),
+    })
+}
