@@ -112,6 +112,37 @@ pub struct PairBlock {
 }
 
 impl PairBlock {
+    /// Clamps every G_ij = A_i F_ij of the block (row k is polygon `rows[k]`) to
+    /// [0, min(A_i, A_j)] ([`clamp_g`]) and drops the entries that become 0 with no
+    /// standard error. Clamping the symmetric G, not F per direction, keeps reciprocity exact.
+    pub fn clamp_to_areas(&mut self, rows: &[usize], areas: &[f64]) {
+        let mut kept = 0usize;
+        let mut start = 0usize;
+        for (k, &i) in rows.iter().enumerate() {
+            let end = self.indptr[k + 1] as usize;
+            for e in start..end {
+                let j = self.cols[e] as usize;
+                let g = clamp_g(self.g[e], areas[i], areas[j]);
+                let sd = self.std.as_ref().map_or(0.0, |s| s[e]);
+                if g != 0.0 || sd != 0.0 {
+                    self.cols[kept] = self.cols[e];
+                    self.g[kept] = g;
+                    if let Some(s) = self.std.as_mut() {
+                        s[kept] = sd;
+                    }
+                    kept += 1;
+                }
+            }
+            start = end;
+            self.indptr[k + 1] = kept as i64;
+        }
+        self.cols.truncate(kept);
+        self.g.truncate(kept);
+        if let Some(s) = self.std.as_mut() {
+            s.truncate(kept);
+        }
+    }
+
     /// The block's rows one by one (row k of the rows it was computed for).
     pub fn rows(&self) -> Vec<PairRow> {
         self.indptr
@@ -126,6 +157,14 @@ impl PairBlock {
             })
             .collect()
     }
+}
+
+/// G = A_i F_ij = A_j F_ji brought into its range [0, min(A_i, A_j)] (F_ij <= 1 both ways):
+/// rounding of a sum that cancels can leave it slightly outside (-1e-9 A for nearly coplanar
+/// triangles sharing a vertex, where the true F is ~1e-15); the clamp is within that error.
+#[inline]
+pub fn clamp_g(g: f64, area_i: f64, area_j: f64) -> f64 {
+    g.max(0.0).min(area_i.min(area_j))
 }
 
 /// `s` cut front to back into consecutive pieces of the given lengths (each owned by one
@@ -326,6 +365,20 @@ fn divide_into(dst: &mut [f64], src: &[f64], a: f64) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn clamp_keeps_g_in_range_and_drops_zeros() {
+        // rows 0 and 2 of polygons with areas 1, 2, 0.5
+        let mut b = PairBlock { indptr: vec![0, 2, 3], cols: vec![1, 2, 1], g: vec![-1e-9, 0.7, 2.5], std: None };
+        b.clamp_to_areas(&[0, 2], &[1.0, 2.0, 0.5]);
+        assert_eq!(b.indptr, vec![0, 1, 2]);
+        assert_eq!(b.cols, vec![2, 1]);
+        assert_eq!(b.g, vec![0.5, 0.5]);
+        // an entry clamped to 0 that has a standard error is kept
+        let mut b = PairBlock { indptr: vec![0, 1], cols: vec![1], g: vec![-1e-9], std: Some(vec![1e-3]) };
+        b.clamp_to_areas(&[0], &[1.0, 1.0]);
+        assert_eq!((b.g, b.std), (vec![0.0], Some(vec![1e-3])));
+    }
 
     #[test]
     fn upper_rows_compute_each_pair_once() {
