@@ -5,7 +5,7 @@
 //! The caller asks for a block of rows at a time, which keeps memory bounded, lets it report
 //! progress and honour Ctrl-C between blocks, and lets it checkpoint finished blocks.
 
-use crate::error::{Error, Result};
+use crate::error::{try_filled, Error, Result};
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicBool, Ordering};
 
@@ -183,7 +183,7 @@ pub(crate) fn split_lengths<T>(mut s: &mut [T], lens: impl IntoIterator<Item = u
 
 /// The rows' entries laid end to end, copied in parallel (the copy of a big block is
 /// dominated by first touches of fresh memory, which then happen on every thread).
-pub fn flatten_pair_rows(rows: &[PairRow]) -> PairBlock {
+pub fn flatten_pair_rows(rows: &[PairRow]) -> Result<PairBlock> {
     let mut indptr = Vec::with_capacity(rows.len() + 1);
     indptr.push(0i64);
     for r in rows {
@@ -191,9 +191,9 @@ pub fn flatten_pair_rows(rows: &[PairRow]) -> PairBlock {
     }
     let nnz = *indptr.last().unwrap() as usize;
     let with_std = rows.iter().any(|r| r.std.is_some());
-    let mut cols = vec![0i32; nnz];
-    let mut g = vec![0.0f64; nnz];
-    let mut std = if with_std { vec![0.0f64; nnz] } else { Vec::new() };
+    let mut cols = try_filled("a block's column indices", nnz, 0i32)?;
+    let mut g = try_filled("a block's entries", nnz, 0.0f64)?;
+    let mut std = if with_std { try_filled("a block's standard errors", nnz, 0.0f64)? } else { Vec::new() };
     let lens = || rows.iter().map(|r| r.len());
     let jobs: Vec<_> = rows.iter().zip(split_lengths(&mut cols, lens())).zip(split_lengths(&mut g, lens())).zip(split_lengths(&mut std, lens())).collect();
     jobs.into_par_iter().with_min_len(64).for_each(|(((r, c), gg), sd)| {
@@ -205,7 +205,7 @@ pub fn flatten_pair_rows(rows: &[PairRow]) -> PairBlock {
             sd.copy_from_slice(s);
         }
     });
-    PairBlock { indptr, cols, g, std: with_std.then_some(std) }
+    Ok(PairBlock { indptr, cols, g, std: with_std.then_some(std) })
 }
 
 #[derive(Debug, Clone, PartialEq, Default)]
@@ -260,9 +260,9 @@ pub fn mirror_upper(areas: &[f64], rows: &[UpperRow<'_>], with_std: bool) -> Res
         count[i + 1] += lower[i] + count[i];
     }
     let nnz = count[n] as usize;
-    let mut indices = vec![0i32; nnz];
-    let mut data = vec![0.0f64; nnz];
-    let mut sdata = if with_std { vec![0.0f64; nnz] } else { Vec::new() };
+    let mut indices = try_filled("the column indices of F", nnz, 0i32)?;
+    let mut data = try_filled("the entries of F", nnz, 0.0f64)?;
+    let mut sdata = if with_std { try_filled("the standard errors of F", nnz, 0.0f64)? } else { Vec::new() };
     // In parallel over ranges of output rows, each owning its slice of the output: rows
     // [lo, hi) get their lower entries (column k < row, from source rows k ascending: the
     // run of k's columns inside [lo, hi), found by bisection) and then their upper entries.

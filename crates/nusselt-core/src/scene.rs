@@ -326,7 +326,7 @@ impl Scene {
             o.check()?;
             unobstructed_rows::pair_block(&self.polygons, &self.receiver, &self.rules, rows, &o.exact, cancel)?
         } else {
-            flatten_pair_rows(&self.pair_rows(rows, m, o, cancel)?)
+            flatten_pair_rows(&self.pair_rows(rows, m, o, cancel)?)?
         };
         let areas: Vec<f64> = self.polygons.iter().map(|p| p.area()).collect();
         block.clamp_to_areas(rows, &areas);
