@@ -83,7 +83,7 @@ def test_nearly_coplanar_triangles_never_negative(method, k):
 
 
 def test_nearly_coplanar_triangles_in_a_scene():
-    r = nusselt.form_factors(nusselt.Scene.from_polygons([TRI_A, tilted_b(3), tilted_b(100)[::-1], TRI_A + [0, 0, 1e-3]]))
+    r = nusselt.form_factors(nusselt.Scene.from_polygons([TRI_A, tilted_b(1e4)]))
     F = r.matrix.toarray()
     assert F.min() >= 0.0 and F.max() <= 1.0
     G = r.areas[:, None] * F
