@@ -10,9 +10,36 @@ pub enum Error {
     /// An option is out of its valid range or a method cannot do what was asked.
     #[error("{0}")]
     InvalidArgument(String),
+    /// A result array could not be allocated (refused instead of aborting the process).
+    #[error("cannot allocate {what}: {count} entries ({bytes} bytes); use a sparse threshold (threshold=) or fewer rows per block")]
+    OutOfMemory { what: &'static str, count: usize, bytes: usize },
     /// The caller asked to stop (Ctrl-C).
     #[error("interrupted")]
     Cancelled,
 }
 
 pub type Result<T> = std::result::Result<T, Error>;
+
+/// `vec![value; count]`, or [`Error::OutOfMemory`] naming `what` when it cannot be allocated
+/// (`vec!` would abort the whole process, Python and all).
+pub fn try_filled<T: Clone>(what: &'static str, count: usize, value: T) -> Result<Vec<T>> {
+    let mut v = Vec::new();
+    let bytes = count.saturating_mul(std::mem::size_of::<T>());
+    v.try_reserve_exact(count).map_err(|_| Error::OutOfMemory { what, count, bytes })?;
+    v.resize(count, value);
+    Ok(v)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn an_allocation_that_cannot_fit_is_an_error() {
+        // 2^60 f64 entries (8 EiB): more than any machine has, refused instead of aborting
+        let err = try_filled("the entries of F", 1usize << 60, 0.0f64).unwrap_err();
+        assert_eq!(err, Error::OutOfMemory { what: "the entries of F", count: 1 << 60, bytes: 1 << 63 });
+        assert!(err.to_string().contains("the entries of F"));
+        assert_eq!(try_filled("x", 3, 1u8).unwrap(), vec![1, 1, 1]);
+    }
+}

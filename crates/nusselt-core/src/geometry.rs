@@ -504,27 +504,38 @@ fn drop_repeated_in_place(v: &mut Vec<Vec3>, tol: f64) {
 /// formula: a polygon partly behind the other's plane would otherwise give wrong F, even 0).
 /// Returns None when nothing of either polygon is in front of the other.
 pub fn clip_pair(a: &Polygon, b: &Polygon) -> Option<(Vec<Vec3>, Vec<Vec3>)> {
-    let tol_a = COINCIDENT_TOL * 1e2 * (a.radius + b.radius);
+    // Each polygon's tolerances are its own: a 1e-8 square under a unit ceiling is a pair
+    // (a tolerance of their summed size would call the square coplanar and give F = 0).
+    let d = a.centroid.distance(b.centroid);
+    let tol_a = plane_tol(a.radius, b.radius + d);
+    let tol_b = plane_tol(b.radius, a.radius + d);
     let mut ca = Vec::with_capacity(a.vertices.len() + 2);
     let mut cb = Vec::with_capacity(b.vertices.len() + 2);
     clip_to_halfspace(&a.vertices, b.centroid, b.normal, tol_a, &mut ca);
-    clip_to_halfspace(&b.vertices, a.centroid, a.normal, tol_a, &mut cb);
+    clip_to_halfspace(&b.vertices, a.centroid, a.normal, tol_b, &mut cb);
     if ca.len() < 3 || cb.len() < 3 {
         return None;
     }
     // A polygon lying entirely in the other's plane (coplanar pair) exchanges nothing.
-    let scale = a.radius + b.radius;
     let area_a = 0.5 * newell_normal(&ca).length();
     let area_b = 0.5 * newell_normal(&cb).length();
-    if area_a <= 1e-14 * scale * scale || area_b <= 1e-14 * scale * scale {
+    if area_a <= 1e-14 * a.radius * a.radius || area_b <= 1e-14 * b.radius * b.radius {
         return None;
     }
     let off_a = ca.iter().map(|x| (x - b.centroid).dot(b.normal)).fold(0.0, f64::max);
     let off_b = cb.iter().map(|x| (x - a.centroid).dot(a.normal)).fold(0.0, f64::max);
-    if off_a <= tol_a || off_b <= tol_a {
+    if off_a <= tol_a || off_b <= tol_b {
         return None;
     }
     Some((ca, cb))
+}
+
+/// Distance from another polygon's plane within which the vertices of a polygon of radius
+/// `own` count as lying on it: 1e-10 of its own size (never of the pair's, so that pairs of
+/// very different size keep the small one), and no less than the rounding of a signed
+/// distance measured across `reach` (the other's radius plus the centroids' distance).
+pub fn plane_tol(own: f64, reach: f64) -> f64 {
+    COINCIDENT_TOL * 1e2 * own + 1e-14 * reach
 }
 
 #[cfg(test)]

@@ -5,7 +5,7 @@
 //! The caller asks for a block of rows at a time, which keeps memory bounded, lets it report
 //! progress and honour Ctrl-C between blocks, and lets it checkpoint finished blocks.
 
-use crate::error::{Error, Result};
+use crate::error::{try_filled, Error, Result};
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicBool, Ordering};
 
@@ -112,6 +112,37 @@ pub struct PairBlock {
 }
 
 impl PairBlock {
+    /// Clamps every G_ij = A_i F_ij of the block (row k is polygon `rows[k]`) to
+    /// [0, min(A_i, A_j)] ([`clamp_g`]) and drops the entries that become 0 with no
+    /// standard error. Clamping the symmetric G, not F per direction, keeps reciprocity exact.
+    pub fn clamp_to_areas(&mut self, rows: &[usize], areas: &[f64]) {
+        let mut kept = 0usize;
+        let mut start = 0usize;
+        for (k, &i) in rows.iter().enumerate() {
+            let end = self.indptr[k + 1] as usize;
+            for e in start..end {
+                let j = self.cols[e] as usize;
+                let g = clamp_g(self.g[e], areas[i], areas[j]);
+                let sd = self.std.as_ref().map_or(0.0, |s| s[e]);
+                if g != 0.0 || sd != 0.0 {
+                    self.cols[kept] = self.cols[e];
+                    self.g[kept] = g;
+                    if let Some(s) = self.std.as_mut() {
+                        s[kept] = sd;
+                    }
+                    kept += 1;
+                }
+            }
+            start = end;
+            self.indptr[k + 1] = kept as i64;
+        }
+        self.cols.truncate(kept);
+        self.g.truncate(kept);
+        if let Some(s) = self.std.as_mut() {
+            s.truncate(kept);
+        }
+    }
+
     /// The block's rows one by one (row k of the rows it was computed for).
     pub fn rows(&self) -> Vec<PairRow> {
         self.indptr
@@ -126,6 +157,14 @@ impl PairBlock {
             })
             .collect()
     }
+}
+
+/// G = A_i F_ij = A_j F_ji brought into its range [0, min(A_i, A_j)] (F_ij <= 1 both ways):
+/// rounding of a sum that cancels can leave it slightly outside (-1e-9 A for nearly coplanar
+/// triangles sharing a vertex, where the true F is ~1e-15); the clamp is within that error.
+#[inline]
+pub fn clamp_g(g: f64, area_i: f64, area_j: f64) -> f64 {
+    g.max(0.0).min(area_i.min(area_j))
 }
 
 /// `s` cut front to back into consecutive pieces of the given lengths (each owned by one
@@ -144,7 +183,7 @@ pub(crate) fn split_lengths<T>(mut s: &mut [T], lens: impl IntoIterator<Item = u
 
 /// The rows' entries laid end to end, copied in parallel (the copy of a big block is
 /// dominated by first touches of fresh memory, which then happen on every thread).
-pub fn flatten_pair_rows(rows: &[PairRow]) -> PairBlock {
+pub fn flatten_pair_rows(rows: &[PairRow]) -> Result<PairBlock> {
     let mut indptr = Vec::with_capacity(rows.len() + 1);
     indptr.push(0i64);
     for r in rows {
@@ -152,9 +191,9 @@ pub fn flatten_pair_rows(rows: &[PairRow]) -> PairBlock {
     }
     let nnz = *indptr.last().unwrap() as usize;
     let with_std = rows.iter().any(|r| r.std.is_some());
-    let mut cols = vec![0i32; nnz];
-    let mut g = vec![0.0f64; nnz];
-    let mut std = if with_std { vec![0.0f64; nnz] } else { Vec::new() };
+    let mut cols = try_filled("a block's column indices", nnz, 0i32)?;
+    let mut g = try_filled("a block's entries", nnz, 0.0f64)?;
+    let mut std = if with_std { try_filled("a block's standard errors", nnz, 0.0f64)? } else { Vec::new() };
     let lens = || rows.iter().map(|r| r.len());
     let jobs: Vec<_> = rows.iter().zip(split_lengths(&mut cols, lens())).zip(split_lengths(&mut g, lens())).zip(split_lengths(&mut std, lens())).collect();
     jobs.into_par_iter().with_min_len(64).for_each(|(((r, c), gg), sd)| {
@@ -166,7 +205,7 @@ pub fn flatten_pair_rows(rows: &[PairRow]) -> PairBlock {
             sd.copy_from_slice(s);
         }
     });
-    PairBlock { indptr, cols, g, std: with_std.then_some(std) }
+    Ok(PairBlock { indptr, cols, g, std: with_std.then_some(std) })
 }
 
 #[derive(Debug, Clone, PartialEq, Default)]
@@ -221,9 +260,9 @@ pub fn mirror_upper(areas: &[f64], rows: &[UpperRow<'_>], with_std: bool) -> Res
         count[i + 1] += lower[i] + count[i];
     }
     let nnz = count[n] as usize;
-    let mut indices = vec![0i32; nnz];
-    let mut data = vec![0.0f64; nnz];
-    let mut sdata = if with_std { vec![0.0f64; nnz] } else { Vec::new() };
+    let mut indices = try_filled("the column indices of F", nnz, 0i32)?;
+    let mut data = try_filled("the entries of F", nnz, 0.0f64)?;
+    let mut sdata = if with_std { try_filled("the standard errors of F", nnz, 0.0f64)? } else { Vec::new() };
     // In parallel over ranges of output rows, each owning its slice of the output: rows
     // [lo, hi) get their lower entries (column k < row, from source rows k ascending: the
     // run of k's columns inside [lo, hi), found by bisection) and then their upper entries.
@@ -326,6 +365,20 @@ fn divide_into(dst: &mut [f64], src: &[f64], a: f64) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn clamp_keeps_g_in_range_and_drops_zeros() {
+        // rows 0 and 2 of polygons with areas 1, 2, 0.5
+        let mut b = PairBlock { indptr: vec![0, 2, 3], cols: vec![1, 2, 1], g: vec![-1e-9, 0.7, 2.5], std: None };
+        b.clamp_to_areas(&[0, 2], &[1.0, 2.0, 0.5]);
+        assert_eq!(b.indptr, vec![0, 1, 2]);
+        assert_eq!(b.cols, vec![2, 1]);
+        assert_eq!(b.g, vec![0.5, 0.5]);
+        // an entry clamped to 0 that has a standard error is kept
+        let mut b = PairBlock { indptr: vec![0, 1], cols: vec![1], g: vec![-1e-9], std: Some(vec![1e-3]) };
+        b.clamp_to_areas(&[0], &[1.0, 1.0]);
+        assert_eq!((b.g, b.std), (vec![0.0], Some(vec![1e-3])));
+    }
 
     #[test]
     fn upper_rows_compute_each_pair_once() {

@@ -97,8 +97,11 @@ pub enum Facing {
 }
 
 pub fn facing(a: &Polygon, b: &Polygon) -> Facing {
-    let tol = 1e-12 * (a.radius() + b.radius());
+    // q's vertices against p's plane, within 1e-12 of q's own size (never of the pair's:
+    // pairs of very different size keep the small one) above the rounding across p
+    let d = a.centroid().distance(b.centroid());
     let side = |p: &Polygon, q: &Polygon| {
+        let tol = 1e-2 * crate::geometry::plane_tol(q.radius(), p.radius() + d);
         // bounding-sphere test first: most pairs of a scene are decided without the vertices
         let h = (q.centroid() - p.centroid()).dot(p.normal());
         if h - q.radius() > tol {

@@ -16,7 +16,7 @@ use crate::hemisphere::{
     RowResult, SinglePlaneOptions, SourcePoints,
 };
 pub use crate::matrix::PairRow;
-use crate::matrix::{flatten_pair_rows, full_rows, upper_pair_rows, PairBlock};
+use crate::matrix::{clamp_g, flatten_pair_rows, full_rows, upper_pair_rows, PairBlock};
 use crate::method::{self, Method, Options, RuleCache};
 use crate::obstructed::{self, Context, Estimate, VisMethod, VisOptions};
 use crate::unobstructed_rows;
@@ -322,11 +322,15 @@ impl Scene {
     /// [`Scene::pair_rows`] as one block of CSR parts (what the Python layer stores); an
     /// unobstructed scene with `auto` writes its rows straight into the block.
     pub fn pair_block(&self, rows: &[usize], m: AnyMethod, o: &AllOptions, cancel: &AtomicBool) -> Result<PairBlock> {
-        if m == AnyMethod::Visible(VisMethod::Auto) && self.unobstructed() {
+        let mut block = if m == AnyMethod::Visible(VisMethod::Auto) && self.unobstructed() {
             o.check()?;
-            return unobstructed_rows::pair_block(&self.polygons, &self.receiver, &self.rules, rows, &o.exact, cancel);
-        }
-        Ok(flatten_pair_rows(&self.pair_rows(rows, m, o, cancel)?))
+            unobstructed_rows::pair_block(&self.polygons, &self.receiver, &self.rules, rows, &o.exact, cancel)?
+        } else {
+            flatten_pair_rows(&self.pair_rows(rows, m, o, cancel)?)?
+        };
+        let areas: Vec<f64> = self.polygons.iter().map(|p| p.area()).collect();
+        block.clamp_to_areas(rows, &areas);
+        Ok(block)
     }
 
     /// Whole rows F_i. by hemisphere sampling.
@@ -362,7 +366,8 @@ pub fn pair_view_factor(a: Polygon, b: Polygon, obstacles: Vec<Polygon>, m: AnyM
                     format!("{mm:?}").to_lowercase()
                 )));
             }
-            Ok(Estimate { value: method::area_factor(&a, &b, mm, &o.exact, None)? / area, std_err: 0.0 })
+            let g = method::area_factor(&a, &b, mm, &o.exact, None)?;
+            Ok(Estimate { value: clamp_g(g, area, b.area()) / area, std_err: 0.0 })
         }
         AnyMethod::Visible(vm) => {
             let mut polys = vec![a, b];
@@ -371,7 +376,8 @@ pub fn pair_view_factor(a: Polygon, b: Polygon, obstacles: Vec<Polygon>, m: AnyM
             let mut vo = o.vis.clone();
             vo.exact_tol = o.exact.tol;
             let e = obstructed::pair(&scene.context()?, 0, 1, vm, &vo)?;
-            Ok(Estimate { value: e.value / area, std_err: e.std_err / area })
+            let area_b = scene.polygons[1].area();
+            Ok(Estimate { value: clamp_g(e.value, area, area_b) / area, std_err: e.std_err / area })
         }
         AnyMethod::Row(rm) => {
             let mut polys = vec![a, b];
@@ -381,13 +387,20 @@ pub fn pair_view_factor(a: Polygon, b: Polygon, obstacles: Vec<Polygon>, m: AnyM
             receiver[1] = true;
             let scene = Scene::new(polys, receiver)?;
             let row = scene.full_rows(&[0], rm, o, &AtomicBool::new(false))?.pop().unwrap_or_default();
-            Ok(row_entry(&row, 1))
+            let e = row_entry(&row, 1);
+            Ok(Estimate { value: e.value.clamp(0.0, 1.0), ..e })
         }
     }
 }
 
-/// F from a differential area (p, unit n) to polygon b, with optional obstacles.
+/// F from a differential area (p, unit n) to polygon b, with optional obstacles; in [0, 1]
+/// (rounding of cancelling sums can leave a method's value just outside).
 pub fn point_view_factor(p: Vec3, n: Vec3, b: Polygon, obstacles: Vec<Polygon>, m: AnyMethod, o: &AllOptions) -> Result<Estimate> {
+    let e = point_estimate(p, n, b, obstacles, m, o)?;
+    Ok(Estimate { value: e.value.clamp(0.0, 1.0), ..e })
+}
+
+fn point_estimate(p: Vec3, n: Vec3, b: Polygon, obstacles: Vec<Polygon>, m: AnyMethod, o: &AllOptions) -> Result<Estimate> {
     o.check()?;
     if !p.is_finite() || !n.is_finite() || !((n.length() - 1.0).abs() < 1e-6) {
         return Err(Error::InvalidArgument("point and unit normal must be finite".into()));

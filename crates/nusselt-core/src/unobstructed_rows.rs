@@ -237,10 +237,12 @@ fn first_pass_body<const FOURTH: bool>(
         let hab = na.x * dx + na.y * dy + na.z * dz;
         let hba = -(nx[k] * dx + ny[k] * dy + nz[k] * dz);
         let rs = ra + rb[k];
-        let eps = 1e-12 * rs;
-        let full = (hab - rb[k] > eps) & (hba - ra > eps);
-        let none = (hab + rb[k] < -eps) | (hba + ra < -eps) | !recv[k];
         let (s, rs2) = (dx * dx + dy * dy + dz * dz, rs * rs);
+        // each polygon's own tolerance, as method::facing has them (bounding-sphere tests)
+        let reach = rs + s.sqrt();
+        let (eps_b, eps_a) = (1e-12 * rb[k] + 1e-16 * reach, 1e-12 * ra + 1e-16 * reach);
+        let full = (hab - rb[k] > eps_b) & (hba - ra > eps_a);
+        let none = (hab + rb[k] < -eps_b) | (hba + ra < -eps_a) | !recv[k];
         let regular = reg_a & reg[k];
         let from = if regular { windows[1] } else { windows[0] };
         let moment2 = full & (s >= from * rs2);
@@ -269,7 +271,7 @@ fn other_pair(polys: &[Polygon], rules: &RuleCache, plan: &FarPlan, pt: &Patches
     let (ia, ib) = (i - lo, j - lo);
     let (na, nb, rb) = (pt.normal(ia), pt.normal(ib), pt.radius[ib]);
     let hab = na.dot(pt.centroid(ib) - pt.centroid(ia));
-    let f = if coplanar(hab, pt.thickness[ib], rb, na, nb, 1e-12 * (pt.radius[ia] + rb)) {
+    let f = if coplanar(hab, pt.thickness[ib], rb, na, nb, 1e-12 * rb) {
         Facing::None
     } else {
         method::facing(&polys[i], &polys[j])

@@ -1,12 +1,13 @@
 //! The one place where core errors become Python exceptions, and where a Rust panic is
 //! caught before it can cross into Python.
 use nusselt_core::Error;
-use pyo3::exceptions::{PyKeyboardInterrupt, PyRuntimeError, PyValueError};
+use pyo3::exceptions::{PyKeyboardInterrupt, PyMemoryError, PyRuntimeError, PyValueError};
 use pyo3::PyErr;
 
 pub fn to_py(err: Error) -> PyErr {
     match err {
         Error::Geometry { .. } | Error::InvalidArgument(_) => PyValueError::new_err(err.to_string()),
+        Error::OutOfMemory { .. } => PyMemoryError::new_err(err.to_string()),
         Error::Cancelled => PyKeyboardInterrupt::new_err("interrupted"),
     }
 }
