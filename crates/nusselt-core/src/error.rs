@@ -10,6 +10,10 @@ pub enum Error {
     /// An option is out of its valid range or a method cannot do what was asked.
     #[error("{0}")]
     InvalidArgument(String),
+    /// One pair or row needed more work units than its budget (see [`crate::work`]).
+    #[error("{what} needs more than budget={budget} work units (visibility tests, cells or rays); raise the \
+             method's `budget` option, or choose cheaper options (a looser tol, a smaller max_depth, fewer cells)")]
+    Budget { what: String, budget: u64 },
     /// The caller asked to stop (Ctrl-C).
     #[error("interrupted")]
     Cancelled,
