@@ -1,5 +1,7 @@
 """Typed stub of the compiled core (crates/nusselt-py). Private: use the nusselt API."""
 
+from typing import Any
+
 import numpy as np
 import numpy.typing as npt
 
@@ -88,7 +90,8 @@ def view_factor(
     method: str,
     opts: dict,
     planarity_tol: float,
-) -> float: ...
+) -> tuple[float, float]:
+    """(F, standard error); KeyboardInterrupt on Ctrl-C, ValueError past the `budget` option."""
 def point_view_factor(
     p: npt.NDArray[np.float64],
     n: npt.NDArray[np.float64],
@@ -97,5 +100,10 @@ def point_view_factor(
     method: str,
     opts: dict,
     planarity_tol: float,
-) -> float: ...
+) -> tuple[float, float]:
+    """(F, standard error); KeyboardInterrupt on Ctrl-C, ValueError past the `budget` option."""
+def methods() -> list[dict[str, Any]]:
+    """The core's method registry: per method {name, kind ("pairs" | "rows"), obstructed,
+    doc, options: [{name, type ("float" | "int" | "bool" | "source"), default, lo, hi,
+    keywords, doc}]}."""
 def _panic_guard_selftest() -> None: ...

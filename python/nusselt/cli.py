@@ -110,12 +110,9 @@ def _light_row(light, polys, others, tol):
 
 
 def cmd_methods(args) -> int:
-    from .methods import METHODS
+    from .methods import describe
 
-    for m in METHODS.values():
-        print(f"{m.name:14s} {m.doc}")
-        for k, o in m.options.items():
-            print(f"{'':16s}{k} = {o.default!r:8}  {o.doc}")
+    print(describe())
     return 0
 
 

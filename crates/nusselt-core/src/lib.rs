@@ -18,6 +18,8 @@ pub mod scene;
 pub mod special;
 pub mod unobstructed_rows;
 pub mod visibility;
+pub mod work;
+pub mod registry;
 
 pub use error::Error;
 pub use geometry::{Polygon, Vec3};

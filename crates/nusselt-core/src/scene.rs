@@ -20,6 +20,7 @@ use crate::matrix::{clamp_g, flatten_pair_rows, full_rows, upper_pair_rows, Pair
 use crate::method::{self, Method, Options, RuleCache};
 use crate::obstructed::{self, Context, Estimate, VisMethod, VisOptions};
 use crate::unobstructed_rows;
+use crate::work;
 use crate::visibility::{Bvh, Occluders};
 use rayon::prelude::*;
 use std::str::FromStr;
@@ -63,15 +64,32 @@ impl FromStr for AnyMethod {
     }
 }
 
-/// The options of every method; each method reads its own.
-#[derive(Debug, Clone, Default)]
+/// The options of every method; each method reads its own ([`crate::registry::configure`]
+/// fills them from the method's option names).
+#[derive(Debug, Clone)]
 pub struct AllOptions {
+    /// Work units one pair or row may take (see [`crate::work`]).
+    pub budget: u64,
     pub exact: Options,
     pub vis: VisOptions,
     pub hemicube: HemicubeOptions,
     pub single_plane: SinglePlaneOptions,
     pub raytrace: RaytraceOptions,
     pub nusselt: NusseltOptions,
+}
+
+impl Default for AllOptions {
+    fn default() -> Self {
+        AllOptions {
+            budget: crate::work::DEFAULT_BUDGET,
+            exact: Default::default(),
+            vis: Default::default(),
+            hemicube: Default::default(),
+            single_plane: Default::default(),
+            raytrace: Default::default(),
+            nusselt: Default::default(),
+        }
+    }
 }
 
 impl AllOptions {
@@ -232,7 +250,8 @@ impl Scene {
                 let ctx = self.context()?;
                 let mut vo = o.vis.clone();
                 vo.exact_tol = o.exact.tol;
-                Box::new(move |i, j| obstructed::pair(&ctx, i, j, vm, &vo))
+                let budget = o.budget;
+                Box::new(move |i, j| work::metered(budget, || pair_what(m, i, j), || obstructed::pair(&ctx, i, j, vm, &vo)))
             }
         };
         upper_pair_rows(n, rows, &self.receiver, cancel, skip, |i, j| {
@@ -305,7 +324,9 @@ impl Scene {
                     for &k in cluster {
                         let (k, j) = (k as usize, cols[k as usize] as usize);
                         let known = obstructed::Known { free: Some(g0[k]), among: Some(&among) };
-                        let est = obstructed::pair_with(&ctx, i, j, vm, &vo, known)?;
+                        let est = work::metered(o.budget, || pair_what(AnyMethod::Visible(vm), i, j), || {
+                            obstructed::pair_with(&ctx, i, j, vm, &vo, known)
+                        })?;
                         (g[k], std[k]) = (est.value, est.std_err);
                     }
                 }
@@ -343,14 +364,20 @@ impl Scene {
             if !self.receiver[i] {
                 return Ok(RowResult::default());
             }
-            match m {
+            let what = || format!("method {:?}: row {i}", crate::registry::name_of(AnyMethod::Row(m)));
+            work::metered(o.budget, what, || match m {
                 RowMethod::Hemicube => hemicube_row(&self.polygons, &self.receiver, i, &o.hemicube),
                 RowMethod::SinglePlane => single_plane_row(&self.polygons, &self.receiver, i, &o.single_plane),
                 RowMethod::Raytrace => raytrace_row(&self.polygons, vis.unwrap(), &self.receiver, i, &o.raytrace),
                 RowMethod::Nusselt => nusselt_row(&self.polygons, vis.unwrap(), &self.receiver, i, &o.nusselt),
-            }
+            })
         })
     }
+}
+
+/// What a budget error names: the method and the pair.
+fn pair_what(m: AnyMethod, i: usize, j: usize) -> String {
+    format!("method {:?}: pair ({i}, {j})", crate::registry::name_of(m))
 }
 
 /// F_ab for a single pair with optional obstacles (opaque from both sides).
@@ -375,7 +402,8 @@ pub fn pair_view_factor(a: Polygon, b: Polygon, obstacles: Vec<Polygon>, m: AnyM
             let scene = Scene::new(polys, vec![true; 2 + n_obs])?;
             let mut vo = o.vis.clone();
             vo.exact_tol = o.exact.tol;
-            let e = obstructed::pair(&scene.context()?, 0, 1, vm, &vo)?;
+            let ctx = scene.context()?;
+            let e = work::metered(o.budget, || pair_what(m, 0, 1), || obstructed::pair(&ctx, 0, 1, vm, &vo))?;
             let area_b = scene.polygons[1].area();
             Ok(Estimate { value: clamp_g(e.value, area, area_b) / area, std_err: e.std_err / area })
         }
@@ -420,7 +448,9 @@ fn point_estimate(p: Vec3, n: Vec3, b: Polygon, obstacles: Vec<Polygon>, m: AnyM
             let mut polys = vec![b];
             polys.extend(obstacles);
             let scene = Scene::new(polys, vec![true; 1 + n_obs])?;
-            obstructed::point(&scene.context()?, p, n, 0, vm, &o.vis)
+            let ctx = scene.context()?;
+            let what = || format!("method {:?}: the point", crate::registry::name_of(m));
+            work::metered(o.budget, what, || obstructed::point(&ctx, p, n, 0, vm, &o.vis))
         }
         AnyMethod::Row(rm) => {
             // The point becomes a tiny source patch sampled at its centroid (= p).

@@ -1,8 +1,7 @@
 //! view_factor / point_view_factor for single pairs and points.
 use crate::convert::{polygon, vec3};
-use crate::errors::guard;
 use crate::options::options;
-use nusselt_core::scene::{self, AnyMethod};
+use nusselt_core::scene;
 use numpy::{PyReadonlyArray1, PyReadonlyArray2};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -25,10 +24,9 @@ pub fn view_factor(
     let pa = polygon(&a, "pi", planarity_tol)?;
     let pb = polygon(&b, "pj", planarity_tol)?;
     let obs = obstacles(&obstacles_, planarity_tol)?;
-    let m: AnyMethod = method.parse().map_err(crate::errors::to_py)?;
-    let o = options(method, opts)?;
+    let (m, o) = options(method, opts)?;
     let pool = crate::threads::pool();
-    let e = py.detach(|| guard(|| pool.install(|| scene::pair_view_factor(pa, pb, obs, m, &o))))?;
+    let e = crate::interrupt::run(py, || pool.install(|| scene::pair_view_factor(pa, pb, obs, m, &o)))?;
     Ok((e.value, e.std_err))
 }
 
@@ -46,14 +44,11 @@ pub fn point_view_factor(
 ) -> PyResult<(f64, f64)> {
     let pb = polygon(&b, "pj", planarity_tol)?;
     let obs = obstacles(&obstacles_, planarity_tol)?;
-    let m: AnyMethod = method.parse().map_err(crate::errors::to_py)?;
-    let o = options(method, opts)?;
+    let (m, o) = options(method, opts)?;
     let (p, n) = (p.as_slice()?.to_vec(), n.as_slice()?.to_vec());
-    let e = py.detach(|| {
-        guard(|| {
-            let (p, n) = (vec3(&p, "point")?, vec3(&n, "normal")?);
-            scene::point_view_factor(p, n, pb, obs, m, &o)
-        })
+    let e = crate::interrupt::run(py, || {
+        let (p, n) = (vec3(&p, "point")?, vec3(&n, "normal")?);
+        scene::point_view_factor(p, n, pb, obs, m, &o)
     })?;
     Ok((e.value, e.std_err))
 }

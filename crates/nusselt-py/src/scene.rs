@@ -1,6 +1,5 @@
 //! SceneCore: the validated polygons of a scene and the row-block computations on them.
 use crate::convert::polygons_flat;
-use crate::errors::guard;
 use crate::options::options;
 use crate::threads::pool;
 use nusselt_core::geometry::{GeometryError, Polygon};
@@ -9,7 +8,7 @@ use nusselt_core::Error;
 use numpy::{IntoPyArray, PyArray1, PyArray2, PyReadonlyArray1, PyReadonlyArray2};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use std::sync::atomic::AtomicBool;
+use nusselt_core::work::CANCEL;
 
 type Csr<'py> = (Bound<'py, PyArray1<i64>>, Bound<'py, PyArray1<i32>>, Bound<'py, PyArray1<f64>>, Option<Bound<'py, PyArray1<f64>>>);
 
@@ -84,14 +83,11 @@ impl SceneCore {
     /// parts over those rows (indptr, indices, G, standard error of G).
     fn pair_rows<'py>(&self, py: Python<'py>, rows: PyReadonlyArray1<'_, i64>, method: &str, opts: &Bound<'_, PyDict>) -> PyResult<Csr<'py>> {
         let rows = to_rows(&rows)?;
-        let m: AnyMethod = method.parse().map_err(crate::errors::to_py)?;
-        let o = options(method, opts)?;
+        let (m, o) = options(method, opts)?;
         let pool = pool();
-        let b = py.detach(|| {
-            guard(|| {
-                self.valid()?;
-                pool.install(|| self.scene.pair_block(&rows, m, &o, &AtomicBool::new(false)))
-            })
+        let b = crate::interrupt::run(py, || {
+            self.valid()?;
+            pool.install(|| self.scene.pair_block(&rows, m, &o, &CANCEL))
         })?;
         Ok((b.indptr.into_pyarray(py), b.cols.into_pyarray(py), b.g.into_pyarray(py), b.std.map(|s| s.into_pyarray(py))))
     }
@@ -106,17 +102,14 @@ impl SceneCore {
         opts: &Bound<'_, PyDict>,
     ) -> PyResult<(Bound<'py, PyArray1<i64>>, Bound<'py, PyArray1<i64>>, Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>)> {
         let rows = to_rows(&rows)?;
-        let m = match method.parse().map_err(crate::errors::to_py)? {
-            AnyMethod::Row(r) => r,
-            _ => return Err(pyo3::exceptions::PyValueError::new_err(format!("{method:?} is not a row method"))),
+        let (m, o) = options(method, opts)?;
+        let AnyMethod::Row(m) = m else {
+            return Err(pyo3::exceptions::PyValueError::new_err(format!("{method:?} is not a row method")));
         };
-        let o = options(method, opts)?;
         let pool = pool();
-        let out = py.detach(|| {
-            guard(|| {
-                self.valid()?;
-                pool.install(|| self.scene.full_rows(&rows, m, &o, &AtomicBool::new(false)))
-            })
+        let out = crate::interrupt::run(py, || {
+            self.valid()?;
+            pool.install(|| self.scene.full_rows(&rows, m, &o, &CANCEL))
         })?;
         let (mut indptr, mut idx, mut val, mut std, mut lost) = (vec![0i64], Vec::new(), Vec::new(), Vec::new(), Vec::new());
         for r in &out {
@@ -143,14 +136,11 @@ impl SceneCore {
         obstructed: bool,
     ) -> PyResult<Csr<'py>> {
         let (p, n) = (vec3_rows(&points, "points")?, vec3_rows(&normals, "normals")?);
-        let m: AnyMethod = method.parse().map_err(crate::errors::to_py)?;
-        let o = options(method, opts)?;
+        let (m, o) = options(method, opts)?;
         let pool = pool();
-        let b = py.detach(|| {
-            guard(|| {
-                self.valid()?;
-                pool.install(|| self.scene.point_rows(&p, &n, m, obstructed, &o, &AtomicBool::new(false)))
-            })
+        let b = crate::interrupt::run(py, || {
+            self.valid()?;
+            pool.install(|| self.scene.point_rows(&p, &n, m, obstructed, &o, &CANCEL))
         })?;
         Ok((b.indptr.into_pyarray(py), b.cols.into_pyarray(py), b.g.into_pyarray(py), b.std.map(|s| s.into_pyarray(py))))
     }
@@ -160,7 +150,10 @@ impl SceneCore {
     fn point_sphere_rows<'py>(&self, py: Python<'py>, points: PyReadonlyArray2<'_, f64>, obstructed: bool) -> PyResult<Csr<'py>> {
         let p = vec3_rows(&points, "points")?;
         let pool = pool();
-        let b = py.detach(|| guard(|| { self.valid()?; pool.install(|| self.scene.point_sphere_rows(&p, obstructed, &AtomicBool::new(false))) }))?;
+        let b = crate::interrupt::run(py, || {
+            self.valid()?;
+            pool.install(|| self.scene.point_sphere_rows(&p, obstructed, &CANCEL))
+        })?;
         Ok((b.indptr.into_pyarray(py), b.cols.into_pyarray(py), b.g.into_pyarray(py), b.std.map(|s| s.into_pyarray(py))))
     }
 
@@ -168,7 +161,10 @@ impl SceneCore {
     fn point_sky<'py>(&self, py: Python<'py>, points: PyReadonlyArray2<'_, f64>, normals: PyReadonlyArray2<'_, f64>) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let (p, n) = (vec3_rows(&points, "points")?, vec3_rows(&normals, "normals")?);
         let pool = pool();
-        let out = py.detach(|| guard(|| { self.valid()?; pool.install(|| self.scene.point_sky(&p, &n, &AtomicBool::new(false))) }))?;
+        let out = crate::interrupt::run(py, || {
+            self.valid()?;
+            pool.install(|| self.scene.point_sky(&p, &n, &CANCEL))
+        })?;
         Ok(out.into_pyarray(py))
     }
 
@@ -176,7 +172,10 @@ impl SceneCore {
     fn patch_sky<'py>(&self, py: Python<'py>, rows: PyReadonlyArray1<'_, i64>, order: usize) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let rows = to_rows(&rows)?;
         let pool = pool();
-        let out = py.detach(|| guard(|| { self.valid()?; pool.install(|| self.scene.patch_sky(&rows, order, &AtomicBool::new(false))) }))?;
+        let out = crate::interrupt::run(py, || {
+            self.valid()?;
+            pool.install(|| self.scene.patch_sky(&rows, order, &CANCEL))
+        })?;
         Ok(out.into_pyarray(py))
     }
 
@@ -184,7 +183,10 @@ impl SceneCore {
     fn rays_blocked<'py>(&self, py: Python<'py>, origins: PyReadonlyArray2<'_, f64>, dirs: PyReadonlyArray2<'_, f64>) -> PyResult<Bound<'py, PyArray1<bool>>> {
         let (o, d) = (vec3_rows(&origins, "origins")?, vec3_rows(&dirs, "directions")?);
         let pool = pool();
-        let out = py.detach(|| guard(|| { self.valid()?; pool.install(|| self.scene.rays_blocked(&o, &d, &AtomicBool::new(false))) }))?;
+        let out = crate::interrupt::run(py, || {
+            self.valid()?;
+            pool.install(|| self.scene.rays_blocked(&o, &d, &CANCEL))
+        })?;
         Ok(out.into_pyarray(py))
     }
 }

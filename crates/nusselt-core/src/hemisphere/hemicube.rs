@@ -259,9 +259,13 @@ pub fn hemicube_row(scene: &[Polygon], receivers: &[bool], i: usize, opts: &Hemi
             let (u, v) = rotated_frame(n, angle);
             // Eye a hair above the element: nothing of the source plane can be in front.
             let eye = p + n * (0.5 * near);
+            // one work unit per cell; stop at cancellation or over budget
+            if !crate::work::spend(3 * (res * res) as u64) {
+                break;
+            }
             s.prepare(res);
             for (j, poly) in scene.iter().enumerate() {
-                if j == i {
+                if j == i || (j % 256 == 0 && !crate::work::go_on()) {
                     continue;
                 }
                 project_polygon(s, poly, j as u32, eye, u, v, n, near, res);

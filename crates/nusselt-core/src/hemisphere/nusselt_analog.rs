@@ -96,6 +96,10 @@ pub fn nusselt_row(
             let (u, v) = rotated_frame(n, angle);
             let w = weight * cell_w;
             for c in 0..s * s {
+                // one work unit per cell; stop at cancellation or over budget
+                if c % 1024 == 0 && !crate::work::spend(1024) {
+                    break;
+                }
                 let (cx, cy) = (c % s, c / s);
                 let (jx, jy) = if opts.jitter {
                     let base = [i as u64, k as u64, c as u64];

@@ -78,6 +78,10 @@ pub fn raytrace_row(
         acc.reset(scene.len());
         let mut lost = 0u64;
         for k in 0..nr {
+            // one work unit per ray; stop at cancellation or over budget
+            if k % 1024 == 0 && !crate::work::spend(1024) {
+                break;
+            }
             let q = sobol4(k, seed);
             let d = cosine_hemisphere([q[0], q[1]]);
             let dir = u * d.x + v * d.y + n * d.z;

@@ -241,6 +241,10 @@ impl Scratch {
 
     /// Warnock recursion on window r = [x0, y0, x1, y1] with candidates stack[cand].
     fn window(&mut self, r: [f64; 4], cand: std::ops::Range<usize>) {
+        // one work unit per window and candidate; stop at cancellation or over budget
+        if !crate::work::spend(cand.len() as u64 + 1) {
+            return;
+        }
         let start = self.stack.len();
         let wa = (r[2] - r[0]) * (r[3] - r[1]);
         for k in cand {

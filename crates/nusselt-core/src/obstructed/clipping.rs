@@ -181,6 +181,8 @@ pub(super) fn adaptive_over_source(
         let k = split(&l.t);
         let kids = [0, 1, 2, 3].map(|i| rule_integral(&rule, &k[i], &g));
         evals.set(evals.get() + 4 * rule.len());
+        // [methods] work budget: one unit per shadow evaluation and blocker
+        crate::work::spend((4 * rule.len() * l.active.len().max(1)) as u64);
         // |kids - whole| bounds the coarse value's error; the kids' sum (what is returned) is
         // better by 2^6 on smooth pieces and by 2^3 next to an unsplit kink: count a quarter.
         // A leaf whose samples are partly 0 holds the edge of the region the shadow reaches,
@@ -215,7 +217,8 @@ pub(super) fn adaptive_over_source(
     }
     let mut total_err: f64 = heap.iter().map(|l| l.err).sum();
     let mut done = Vec::new(); // leaves at the depth limit
-    while total_err > goal && evals.get() < o.max_evals {
+    // [methods] `go_on`: stop at cancellation or when the pair's work budget is spent
+    while total_err > goal && evals.get() < o.max_evals && crate::work::go_on() {
         let Some(mut worst) = heap.pop() else { break };
         total_err -= worst.err;
         let Some(kids) = worst.kids else {

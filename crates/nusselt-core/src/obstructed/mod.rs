@@ -143,6 +143,10 @@ pub fn pair_with(ctx: &Context, i: usize, j: usize, m: VisMethod, o: &VisOptions
                 }
             };
             for (x, w) in points {
+                // [methods] stop at cancellation or when the pair's work budget is spent
+                if !crate::work::go_on() {
+                    break;
+                }
                 let f = match &pieces {
                     Some(p) => uniform_point(x, a.normal(), p, &|y| visible(x, y)),
                     None => adaptive_point(x, a.normal(), b, &|y| visible(x, y), o),

@@ -416,6 +416,11 @@ impl Visibility for Bvh {
     /// in the position of an end point that lies on a polygon, or on an edge or corner
     /// where polygons meet, never counts as a blocker.
     fn occluded(&self, a: Vec3, b: Vec3, ignore: &[u32]) -> bool {
+        // [methods] one work unit per segment test; once cancelled or over budget every
+        // test answers "blocked" at once (the caller discards the result, see crate::work)
+        if !crate::work::spend(1) {
+            return true;
+        }
         let d = b - a;
         let len = d.length();
         if !(len > 0.0) || !len.is_finite() {

@@ -1,0 +1,526 @@
+//! The one table of methods users can select: each method's name, kind, whether it handles
+//! obstacles, and each option's name, type, default, valid range and documentation.
+//!
+//! Everything else reads this table: [`configure`] turns a method name and the options a
+//! caller gave into the core's method and option structs (the defaults a user gets are the
+//! ones written here, whatever the structs' `Default` say), and the Python package builds
+//! `nusselt.METHODS`, its validation and `nusselt methods` from it (through the binding's
+//! `methods()`). An option name means one thing per method: `tol` of `auto` is the accuracy
+//! of unobstructed pairs, `tol` of `adaptive` the leaf threshold, `tol` of `clipping` the
+//! target on obstructed pairs; the mapping is spelled out per method in [`configure`].
+
+use crate::error::{Error, Result};
+use crate::hemisphere::SourcePoints;
+use crate::method::Method;
+use crate::obstructed::VisMethod;
+use crate::scene::{AllOptions, AnyMethod, RowMethod};
+use crate::work::DEFAULT_BUDGET;
+
+/// How a method computes a matrix.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Kind {
+    /// A_i F_ij once per unordered pair (symmetric G).
+    Pairs,
+    /// Whole rows F_i. by sampling the hemisphere above each patch.
+    Rows,
+}
+
+impl Kind {
+    pub fn name(self) -> &'static str {
+        match self {
+            Kind::Pairs => "pairs",
+            Kind::Rows => "rows",
+        }
+    }
+}
+
+/// The type of an option's value.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum OptionType {
+    Float,
+    Int,
+    Bool,
+    /// A keyword of [`OptionSpec::keywords`] or an integer in [lo, hi] (a Gauss order k,
+    /// 0 meaning the centroid).
+    Source,
+}
+
+impl OptionType {
+    pub fn name(self) -> &'static str {
+        match self {
+            OptionType::Float => "float",
+            OptionType::Int => "int",
+            OptionType::Bool => "bool",
+            OptionType::Source => "source",
+        }
+    }
+}
+
+/// An option's value (defaults in the table, and what a caller gives).
+#[derive(Debug, Clone, PartialEq)]
+pub enum Value {
+    Float(f64),
+    Int(u64),
+    Bool(bool),
+    Keyword(String),
+}
+
+/// A default in the static table.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Default {
+    Float(f64),
+    Int(u64),
+    Bool(bool),
+    Keyword(&'static str),
+}
+
+impl Default {
+    pub fn value(self) -> Value {
+        match self {
+            Default::Float(x) => Value::Float(x),
+            Default::Int(x) => Value::Int(x),
+            Default::Bool(x) => Value::Bool(x),
+            Default::Keyword(s) => Value::Keyword(s.to_string()),
+        }
+    }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct OptionSpec {
+    pub name: &'static str,
+    pub ty: OptionType,
+    pub default: Default,
+    /// Inclusive range of a number (Float, Int, the integer form of Source); unused for Bool.
+    pub lo: f64,
+    pub hi: f64,
+    /// Keywords a Source option accepts.
+    pub keywords: &'static [&'static str],
+    pub doc: &'static str,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MethodSpec {
+    pub name: &'static str,
+    pub kind: Kind,
+    /// Handles polygons that block others (visibility).
+    pub obstructed: bool,
+    pub doc: &'static str,
+    pub options: &'static [OptionSpec],
+}
+
+impl MethodSpec {
+    pub fn option(&self, name: &str) -> Option<&'static OptionSpec> {
+        self.options.iter().find(|o| o.name == name)
+    }
+}
+
+const fn float(name: &'static str, default: f64, lo: f64, hi: f64, doc: &'static str) -> OptionSpec {
+    OptionSpec { name, ty: OptionType::Float, default: Default::Float(default), lo, hi, keywords: &[], doc }
+}
+const fn int(name: &'static str, default: u64, lo: u64, hi: u64, doc: &'static str) -> OptionSpec {
+    OptionSpec { name, ty: OptionType::Int, default: Default::Int(default), lo: lo as f64, hi: hi as f64, keywords: &[], doc }
+}
+const fn flag(name: &'static str, default: bool, doc: &'static str) -> OptionSpec {
+    OptionSpec { name, ty: OptionType::Bool, default: Default::Bool(default), lo: 0.0, hi: 1.0, keywords: &[], doc }
+}
+const fn source(default: &'static str, keywords: &'static [&'static str], doc: &'static str) -> OptionSpec {
+    OptionSpec { name: "source", ty: OptionType::Source, default: Default::Keyword(default), lo: 0.0, hi: 16.0, keywords, doc }
+}
+
+/// Largest budget accepted (2^62 units: effectively none).
+pub const MAX_BUDGET: u64 = 1 << 62;
+
+const BUDGET: OptionSpec = int(
+    "budget",
+    DEFAULT_BUDGET,
+    1,
+    MAX_BUDGET,
+    "most work units (visibility tests, cells or rays) one pair or row may take; more is a ValueError naming it",
+);
+const SEED: OptionSpec = int("seed", 0, 0, 1 << 63, "seed of the scrambled low-discrepancy points (results are reproducible)");
+const ROTATE: OptionSpec = flag("random_rotation", true, "random rotation about the normal per sample point (aliasing becomes noise)");
+const CONTROL_VARIATE: OptionSpec = flag("control_variate", true, "compute the unblocked integral exactly and sample only the blocked part");
+const SOURCE_ROW: OptionSpec = source(
+    "auto",
+    &["auto", "centre", "center"],
+    "source points on each patch: 'auto' (by patch size), 'centre', or k for a k x k Gauss rule",
+);
+const SOURCE_AREA: OptionSpec = source(
+    "auto",
+    &["auto", "centre", "center"],
+    "source points on A_i: 'auto' (the source cut along the lines where the visible F has a kink, 7 points per piece), \
+     'centre', or k for a k x k Gauss rule \
+     (always a normalised weighted sum)",
+);
+
+/// Every method, in the order `nusselt methods` lists them.
+pub static METHODS: &[MethodSpec] = &[
+    MethodSpec {
+        name: "auto",
+        kind: Kind::Pairs,
+        obstructed: true,
+        doc: "the fastest method that meets the accuracy targets for each pair: for pairs with nothing in between, a moment \
+              rule (fourth order for parallelograms) or Gauss area quadrature of an order chosen by separation (distant \
+              pairs) or the exact closed form (close, touching, piercing pairs); for pairs a polygon may block, the exact \
+              visible region (`clipping`) to `obstructed_tol`",
+        options: &[
+            float("tol", 1e-10, 1e-15, 0.1, "relative accuracy target per unobstructed pair"),
+            float(
+                "obstructed_tol",
+                1e-6,
+                1e-14,
+                0.1,
+                "accuracy target for obstructed pairs, relative to the pair's unobstructed F (so also absolute on F; row \
+                 sums within it in enclosures)",
+            ),
+            BUDGET,
+        ],
+    },
+    MethodSpec {
+        name: "analytic",
+        kind: Kind::Pairs,
+        obstructed: false,
+        doc: "closed form: Lambert's formula for a point, Narayanaswamy's edge-pair formula (exact limits for touching \
+              edges) for two polygons; where the edge-pair terms cancel by more than 2e3 (slivers, pairs far apart) an area \
+              route with terms of one sign (Gauss on both areas, or Lambert integrated over the smaller polygon) to 1e-14; \
+              assumes nothing is in between",
+        options: &[],
+    },
+    MethodSpec {
+        name: "contour",
+        kind: Kind::Pairs,
+        obstructed: false,
+        doc: "double contour (Stokes) integral: exact inner line integral, Gauss-Legendre outer integral on graded panels, \
+              exact closed form where edges touch; sums that cancel by more than 2e3 take the same area route as analytic; \
+              assumes nothing is in between",
+        options: &[int("nodes", 16, 1, 64, "Gauss-Legendre nodes per edge panel")],
+    },
+    MethodSpec {
+        name: "quadrature",
+        kind: Kind::Pairs,
+        obstructed: true,
+        doc: "Gauss rules on both areas (the double area integral) with point-pair visibility by ray casting; each polygon \
+              is first cut along the planes of blockers that pass through it (a partition or a fin standing on it), where \
+              visibility steps",
+        options: &[
+            int("order", 24, 1, 32, "Gauss order per direction on each polygon (a piece cut off a fraction f of it gets ceil(order sqrt f))"),
+            int(
+                "panels",
+                4,
+                1,
+                64,
+                "point form: the receiver is split into panels^2 pieces per triangle, each with the order rule (composite \
+                 rule for the sharp visibility step)",
+            ),
+            CONTROL_VARIATE,
+            BUDGET,
+        ],
+    },
+    MethodSpec {
+        name: "montecarlo",
+        kind: Kind::Pairs,
+        obstructed: true,
+        doc: "area-to-area quasi-Monte Carlo with Owen-scrambled Sobol points, stratified over the pieces of both polygons \
+              cut along the planes of blockers through them; standard error from 8 independent scramblings",
+        options: &[int("samples", 16384, 8, 1 << 24, "point pairs per form factor"), SEED, CONTROL_VARIATE, BUDGET],
+    },
+    MethodSpec {
+        name: "subdivision",
+        kind: Kind::Pairs,
+        obstructed: true,
+        doc: "dA -> A_j by uniform subdivision of the receiver (exact Lambert per piece times the piece's visibility; the \
+              receiver is first cut along the planes of blockers through it), summed over source points",
+        options: &[int("divisions", 48, 1, 256, "each receiver triangle is split into divisions^2"), SOURCE_AREA, BUDGET],
+    },
+    MethodSpec {
+        name: "adaptive",
+        kind: Kind::Pairs,
+        obstructed: true,
+        doc: "dA -> A_j by adaptive subdivision of the receiver where visibility changes, summed over source points",
+        options: &[
+            float("tol", 1e-5, 1e-14, 0.1, "pieces contributing less than this to F are not refined"),
+            int("max_depth", 8, 1, 16, "deepest refinement level"),
+            SOURCE_AREA,
+            BUDGET,
+        ],
+    },
+    MethodSpec {
+        name: "clipping",
+        kind: Kind::Pairs,
+        obstructed: true,
+        doc: "exact visible region per source point (shadows projected onto the receiver, subtracted by polygon clipping, \
+              Lambert on the rest), integrated adaptively over the source",
+        options: &[
+            float("tol", 1e-7, 1e-14, 0.1, "accuracy target on F, relative to the pair's unobstructed F (so also absolute)"),
+            int("max_depth", 12, 1, 16, "deepest refinement of the source"),
+            source(
+                "adaptive",
+                &["adaptive", "centre", "center"],
+                "'adaptive' (to tol), or 'centre' / k for a fixed k x k Gauss rule whose visible fraction of the point F \
+                 scales the exact unobstructed F",
+            ),
+            BUDGET,
+        ],
+    },
+    MethodSpec {
+        name: "hemicube",
+        kind: Kind::Rows,
+        obstructed: true,
+        doc: "hemicube with z-buffer and item buffer per face, exact delta form factors per cell",
+        options: &[int("resolution", 128, 4, 4096, "cells along the top face (even)"), SOURCE_ROW, ROTATE, SEED, BUDGET],
+    },
+    MethodSpec {
+        name: "single-plane",
+        kind: Kind::Rows,
+        obstructed: true,
+        doc: "Sillion's single plane above the patch with Warnock area subdivision; the horizon band it misses is reported \
+              per row (`lost`)",
+        options: &[
+            float("half_width", 14.0, 0.5, 1e4, "half-width of the plane at height 1"),
+            float("min_cell", 1.0 / 128.0, 1e-4, 1.0, "smallest Warnock window (relative to height 1)"),
+            SOURCE_ROW,
+            ROTATE,
+            SEED,
+            BUDGET,
+        ],
+    },
+    MethodSpec {
+        name: "raytrace",
+        kind: Kind::Rows,
+        obstructed: true,
+        doc: "cosine-distributed rays (reverse Nusselt analogy) from area-uniform points, first hit by the BVH; binomial \
+              standard error per entry",
+        options: &[int("rays", 4096, 1, 1 << 26, "rays per patch"), SEED, BUDGET],
+    },
+    MethodSpec {
+        name: "nusselt",
+        kind: Kind::Rows,
+        obstructed: true,
+        doc: "Nusselt analog: equal-area cells of the unit disk lifted to the hemisphere, each resolved to the visible \
+              patch; F = covered disk area / pi",
+        options: &[
+            int("cells", 4096, 1, 1 << 24, "disk cells (rounded to a square number)"),
+            SOURCE_ROW,
+            flag("jitter", true, "a random point per cell instead of its centre"),
+            ROTATE,
+            SEED,
+            BUDGET,
+        ],
+    },
+];
+
+/// The method called `name`.
+pub fn find(name: &str) -> Result<&'static MethodSpec> {
+    METHODS.iter().find(|m| m.name == name).ok_or_else(|| {
+        let names: Vec<&str> = METHODS.iter().map(|m| m.name).collect();
+        Error::InvalidArgument(format!("unknown method {name:?}; choose one of: {}", names.join(", ")))
+    })
+}
+
+/// The user-facing name of a method.
+pub fn name_of(m: AnyMethod) -> &'static str {
+    match m {
+        AnyMethod::Exact(Method::Analytic) => "analytic",
+        AnyMethod::Exact(Method::Contour) => "contour",
+        AnyMethod::Exact(Method::Auto) | AnyMethod::Visible(VisMethod::Auto) => "auto",
+        AnyMethod::Visible(VisMethod::Quadrature) => "quadrature",
+        AnyMethod::Visible(VisMethod::MonteCarlo) => "montecarlo",
+        AnyMethod::Visible(VisMethod::Subdivision) => "subdivision",
+        AnyMethod::Visible(VisMethod::Adaptive) => "adaptive",
+        AnyMethod::Visible(VisMethod::Clipping) => "clipping",
+        AnyMethod::Row(RowMethod::Hemicube) => "hemicube",
+        AnyMethod::Row(RowMethod::SinglePlane) => "single-plane",
+        AnyMethod::Row(RowMethod::Raytrace) => "raytrace",
+        AnyMethod::Row(RowMethod::Nusselt) => "nusselt",
+    }
+}
+
+/// Checks `v` against `spec`; the message names the method and the option.
+pub fn check(method: &str, spec: &OptionSpec, v: &Value) -> Result<()> {
+    let bad = |why: String| Err(Error::InvalidArgument(format!("method {method:?}: option {}={v:?} {why}", spec.name)));
+    let in_range = |x: f64| x >= spec.lo && x <= spec.hi;
+    match (spec.ty, v) {
+        (OptionType::Float, Value::Float(x)) if !x.is_finite() => bad("must be finite".into()),
+        (OptionType::Float, Value::Float(x)) => {
+            if in_range(*x) {
+                Ok(())
+            } else {
+                bad(format!("is outside [{:e}, {:e}]", spec.lo, spec.hi))
+            }
+        }
+        (OptionType::Int | OptionType::Source, Value::Int(x)) => {
+            // integer comparison: above 2^53 an f64 cannot tell x from x + 1
+            if *x >= spec.lo as u64 && *x <= spec.hi as u64 {
+                Ok(())
+            } else {
+                bad(format!("is outside [{}, {}]", spec.lo as u64, spec.hi as u64))
+            }
+        }
+        (OptionType::Bool, Value::Bool(_)) => Ok(()),
+        (OptionType::Source, Value::Keyword(s)) => {
+            if spec.keywords.contains(&s.as_str()) {
+                Ok(())
+            } else {
+                bad(format!("must be one of {:?} or an integer in [{}, {}]", spec.keywords, spec.lo as u64, spec.hi as u64))
+            }
+        }
+        _ => bad(format!("must be of type {}", spec.ty.name())),
+    }
+}
+
+/// The method `name` with the options `given` (the others at their defaults in [`METHODS`]),
+/// each checked against its range.
+pub fn configure(name: &str, given: &[(String, Value)]) -> Result<(AnyMethod, AllOptions)> {
+    let spec = find(name)?;
+    let mut values: Vec<(&'static OptionSpec, Value)> = spec.options.iter().map(|o| (o, o.default.value())).collect();
+    for (k, v) in given {
+        let slot = values.iter_mut().find(|(o, _)| o.name == k).ok_or_else(|| {
+            let names: Vec<&str> = spec.options.iter().map(|o| o.name).collect();
+            Error::InvalidArgument(format!(
+                "method {name:?} has no option {k} (options: {})",
+                if names.is_empty() { "none".to_string() } else { names.join(", ") }
+            ))
+        })?;
+        check(name, slot.0, v)?;
+        slot.1 = v.clone();
+    }
+    let method = match name {
+        "analytic" => AnyMethod::Exact(Method::Analytic),
+        "contour" => AnyMethod::Exact(Method::Contour),
+        "auto" => AnyMethod::Visible(VisMethod::Auto),
+        "quadrature" => AnyMethod::Visible(VisMethod::Quadrature),
+        "montecarlo" => AnyMethod::Visible(VisMethod::MonteCarlo),
+        "subdivision" => AnyMethod::Visible(VisMethod::Subdivision),
+        "adaptive" => AnyMethod::Visible(VisMethod::Adaptive),
+        "clipping" => AnyMethod::Visible(VisMethod::Clipping),
+        "hemicube" => AnyMethod::Row(RowMethod::Hemicube),
+        "single-plane" => AnyMethod::Row(RowMethod::SinglePlane),
+        "raytrace" => AnyMethod::Row(RowMethod::Raytrace),
+        "nusselt" => AnyMethod::Row(RowMethod::Nusselt),
+        other => return Err(Error::InvalidArgument(format!("method {other:?} is listed but not wired (internal error)"))),
+    };
+    let mut o = AllOptions::default();
+    for (spec_o, v) in &values {
+        apply(name, spec_o.name, v, &mut o)?;
+    }
+    o.check()?;
+    Ok((method, o))
+}
+
+fn as_f64(v: &Value) -> f64 {
+    match *v {
+        Value::Float(x) => x,
+        Value::Int(x) => x as f64,
+        _ => f64::NAN,
+    }
+}
+fn as_u64(v: &Value) -> u64 {
+    match *v {
+        Value::Int(x) => x,
+        _ => 0,
+    }
+}
+fn as_bool(v: &Value) -> bool {
+    matches!(v, Value::Bool(true))
+}
+
+/// Source points of a row method, and of the area pair methods (None = the method's own
+/// 'auto' / 'adaptive' rule).
+fn source_of(v: &Value) -> (SourcePoints, Option<usize>) {
+    match v {
+        Value::Keyword(s) if s == "centre" || s == "center" => (SourcePoints::Centre, Some(0)),
+        Value::Int(0) => (SourcePoints::Centre, Some(0)),
+        Value::Int(k) => (SourcePoints::Gauss(*k as u32), Some(*k as usize)),
+        _ => (SourcePoints::Auto, None),
+    }
+}
+
+/// Writes option `key` of method `name` into the core's option structs.
+fn apply(name: &str, key: &str, v: &Value, o: &mut AllOptions) -> Result<()> {
+    match (name, key) {
+        (_, "budget") => o.budget = as_u64(v),
+        ("auto", "tol") => o.exact.tol = as_f64(v),
+        ("auto", "obstructed_tol") => o.vis.tol = as_f64(v),
+        ("contour", "nodes") => o.exact.nodes = as_u64(v) as usize,
+        ("quadrature", "order") => o.vis.order = as_u64(v) as usize,
+        ("quadrature", "panels") => o.vis.panels = as_u64(v) as usize,
+        ("quadrature" | "montecarlo", "control_variate") => o.vis.control_variate = as_bool(v),
+        ("montecarlo", "samples") => o.vis.samples = as_u64(v) as usize,
+        ("montecarlo", "seed") => o.vis.seed = as_u64(v),
+        ("subdivision", "divisions") => o.vis.divisions = as_u64(v) as usize,
+        ("subdivision" | "adaptive", "source") => o.vis.source_points = source_of(v).1,
+        ("adaptive" | "clipping", "tol") => o.vis.tol = as_f64(v),
+        ("adaptive" | "clipping", "max_depth") => o.vis.max_depth = as_u64(v) as usize,
+        ("clipping", "source") => o.vis.clip_source = source_of(v).1,
+        ("hemicube", "resolution") => {
+            let r = as_u64(v) as u32;
+            if r % 2 != 0 {
+                return Err(Error::InvalidArgument(format!("method \"hemicube\": option resolution={r} must be even")));
+            }
+            o.hemicube.resolution = r;
+        }
+        ("hemicube", "source") => o.hemicube.source = source_of(v).0,
+        ("hemicube", "random_rotation") => o.hemicube.random_rotation = as_bool(v),
+        ("hemicube", "seed") => o.hemicube.seed = as_u64(v),
+        ("single-plane", "half_width") => o.single_plane.half_width = as_f64(v),
+        ("single-plane", "min_cell") => o.single_plane.min_cell = as_f64(v),
+        ("single-plane", "source") => o.single_plane.source = source_of(v).0,
+        ("single-plane", "random_rotation") => o.single_plane.random_rotation = as_bool(v),
+        ("single-plane", "seed") => o.single_plane.seed = as_u64(v),
+        ("raytrace", "rays") => o.raytrace.rays = as_u64(v) as u32,
+        ("raytrace", "seed") => o.raytrace.seed = as_u64(v),
+        ("nusselt", "cells") => o.nusselt.cells = as_u64(v) as u32,
+        ("nusselt", "source") => o.nusselt.source = source_of(v).0,
+        ("nusselt", "jitter") => o.nusselt.jitter = as_bool(v),
+        ("nusselt", "random_rotation") => o.nusselt.random_rotation = as_bool(v),
+        ("nusselt", "seed") => o.nusselt.seed = as_u64(v),
+        _ => return Err(Error::InvalidArgument(format!("method {name:?}: option {key} is listed but not wired (internal error)"))),
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_method_configures_at_its_defaults_and_at_each_range_end() {
+        for m in METHODS {
+            configure(m.name, &[]).unwrap_or_else(|e| panic!("{}: {e}", m.name));
+            for o in m.options {
+                let ends: Vec<Value> = match o.ty {
+                    OptionType::Float => vec![Value::Float(o.lo), Value::Float(o.hi)],
+                    OptionType::Int | OptionType::Source => vec![Value::Int(o.lo as u64), Value::Int(o.hi as u64)],
+                    OptionType::Bool => vec![Value::Bool(false), Value::Bool(true)],
+                };
+                for v in ends {
+                    let v = match (m.name, o.name, v) {
+                        // the hemicube's resolution is even
+                        ("hemicube", "resolution", Value::Int(r)) => Value::Int(r & !1),
+                        (_, _, v) => v,
+                    };
+                    configure(m.name, &[(o.name.to_string(), v.clone())])
+                        .unwrap_or_else(|e| panic!("{} {}={v:?}: {e}", m.name, o.name));
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn out_of_range_and_unknown_options_are_refused_by_name() {
+        let e = configure("single-plane", &[("min_cell".into(), Value::Float(1e-5))]).unwrap_err().to_string();
+        assert!(e.contains("min_cell") && e.contains("single-plane"), "{e}");
+        let e = configure("adaptive", &[("nodes".into(), Value::Int(3))]).unwrap_err().to_string();
+        assert!(e.contains("no option nodes"), "{e}");
+        assert!(configure("nope", &[]).is_err());
+    }
+
+    #[test]
+    fn tol_means_what_each_method_documents() {
+        let (_, o) = configure("auto", &[("tol".into(), Value::Float(1e-6))]).unwrap();
+        assert_eq!(o.exact.tol, 1e-6);
+        let (_, o) = configure("adaptive", &[("tol".into(), Value::Float(1e-3))]).unwrap();
+        assert_eq!(o.vis.tol, 1e-3);
+        assert_eq!(o.exact.tol, 1e-10);
+    }
+}
