@@ -89,3 +89,33 @@ def test_nearly_coplanar_triangles_in_a_scene():
     G = r.areas[:, None] * F
     assert np.array_equal(G > 0, (G > 0).T)
     assert np.allclose(G, G.T, rtol=1e-13, atol=0)
+
+
+# --- item 4: the coordinate range ----------------------------------------------------------
+
+_FLOOR = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]], float)
+_CEIL = np.array([[0, 0, 1], [0, 1, 1], [1, 1, 1], [1, 0, 1]], float)
+_SHIELD = np.array([[0.25, 0.25, 0.5], [0.75, 0.25, 0.5], [0.75, 0.75, 0.5], [0.25, 0.75, 0.5]])
+
+
+@pytest.mark.parametrize("scale", [1e-59, 1e-30, 1e30, 1e59])
+def test_extreme_but_accepted_scales_give_the_unit_scale_answer(scale):
+    # Howell C-11 for unit squares at gap 1, and the blocked pair at unit scale as reference
+    c11 = 0.19982489569838746
+    blocked = nusselt.view_factor(_FLOOR, _CEIL, obstacles=[_SHIELD])
+    assert nusselt.view_factor(_FLOOR * scale, _CEIL * scale) == pytest.approx(c11, rel=1e-13, abs=0)
+    assert nusselt.view_factor(_FLOOR * scale, _CEIL * scale, obstacles=[_SHIELD * scale]) == pytest.approx(
+        blocked, rel=1e-11, abs=0)
+    scene = nusselt.Scene.from_polygons([_FLOOR * scale, _CEIL * scale, _SHIELD * scale])
+    assert nusselt.form_factors(scene).dense()[0, 1] == pytest.approx(blocked, rel=1e-11, abs=0)
+
+
+@pytest.mark.parametrize("scale", [1e-80, 1e-100, 1e77, 1e160])
+def test_scales_beyond_double_precision_are_refused(scale):
+    # at 1e77 F was 0 and at 1e-80 off by 1.1e-6, silently
+    with pytest.raises(ValueError, match="double precision; rescale"):
+        nusselt.view_factor(_FLOOR * scale, _CEIL * scale)
+    with pytest.raises(ValueError, match="the scene: .*double precision"):
+        nusselt.Scene.from_polygons([_FLOOR * scale, _CEIL * scale])
+    with pytest.raises(ValueError, match="double precision"):
+        nusselt.point_view_factor(np.array([0.5, 0.5, 0.0]) * scale, [0, 0, 1], _CEIL * scale)

@@ -6,7 +6,7 @@ import os
 
 import numpy as np
 
-from . import _core, assembly, blocks, budget
+from . import _core, assembly, blocks, budget, ranges
 from . import checkpoint as _checkpoint
 from .checks import warn_zero_rows
 from .methods import resolve
@@ -18,6 +18,9 @@ def _polygon(p, what: str) -> np.ndarray:
     a = np.asarray(p, dtype=np.float64)
     if a.ndim != 2 or a.shape[1] != 3:
         raise ValueError(f"{what}: expected an (n, 3) array of vertices, got shape {a.shape}")
+    if np.isfinite(a).all():  # NaN and infinity get the core's message
+        ranges.check_coordinates(a, what)
+        ranges.check_extent(a, what)
     return np.ascontiguousarray(a)
 
 
@@ -25,6 +28,7 @@ def _vector(x, what: str) -> np.ndarray:
     a = np.asarray(x, dtype=np.float64).ravel()
     if a.shape != (3,) or not np.isfinite(a).all():
         raise ValueError(f"{what} must be 3 finite numbers, got {np.asarray(x).tolist()}")
+    ranges.check_coordinates(a[None, :], what)
     return a
 
 

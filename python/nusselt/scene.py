@@ -9,7 +9,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from . import _core
+from . import _core, ranges
 from .io.scenedata import NusseltWarning
 from .io.topology import ORIENTS, orient_faces
 from .overlaps import coplanar_overlaps
@@ -161,6 +161,8 @@ class Scene:
         bad = np.flatnonzero(~np.isfinite(v).all(axis=1))
         if bad.size:
             raise ValueError(f"{where}vertex {bad[0]} has a NaN or infinite coordinate: {v[bad[0]].tolist()}")
+        ranges.check_coordinates(v, f"{where}the scene".strip())
+        ranges.check_extent(v, f"{where}the scene".strip())
         face_list = _face_indices(faces, where)
         if not face_list:
             raise ValueError(f"{where}the scene has no faces")
