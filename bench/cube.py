@@ -77,8 +77,8 @@ def run_nusselt(n: int, tol: float) -> dict:
 
 
 def run_pyviewfactor(n: int) -> dict:
-    import pyvista as pv
     import pyviewfactor as pvf
+    import pyvista as pv
 
     polys, which = cube_faces(n)
     pts = np.concatenate(polys)
@@ -122,8 +122,10 @@ def main() -> None:
     if args.tool:
         child(args)
         return
-    print(f"{'tool':14s} {'n':>3s} {'patches':>7s} {'tol':>7s} {'wall s':>8s} {'cpu s':>8s} {'peak MB':>8s}"
-          f" {'Mpairs/s':>9s} {'row-sum err':>11s} {'recip err':>10s} {'face err':>10s}")
+    print(
+        f"{'tool':14s} {'n':>3s} {'patches':>7s} {'tol':>7s} {'wall s':>8s} {'cpu s':>8s} {'peak MB':>8s}"
+        f" {'Mpairs/s':>9s} {'row-sum err':>11s} {'recip err':>10s} {'face err':>10s}"
+    )
     for n in args.n:
         runs = [("nusselt", t) for t in args.tol]
         if not args.no_peer and n <= args.peer_max_n:
@@ -141,9 +143,12 @@ def main() -> None:
             r = json.loads(run.stdout.splitlines()[-1])
             npatch = 6 * n * n
             pairs = npatch * (npatch - 1) / 2
-            print(f"{tool:14s} {n:3d} {npatch:7d} {tol if tol else '-':>7} {r['wall_s']:8.2f} {r['cpu_s']:8.2f}"
-                  f" {r['peak_mb']:8.0f} {pairs / r['wall_s'] / 1e6:9.2f} {r['row_sum_err']:11.2e}"
-                  f" {r['reciprocity_err']:10.2e} {r['face_sum_err']:10.2e}", flush=True)
+            print(
+                f"{tool:14s} {n:3d} {npatch:7d} {tol if tol else '-':>7} {r['wall_s']:8.2f} {r['cpu_s']:8.2f}"
+                f" {r['peak_mb']:8.0f} {pairs / r['wall_s'] / 1e6:9.2f} {r['row_sum_err']:11.2e}"
+                f" {r['reciprocity_err']:10.2e} {r['face_sum_err']:10.2e}",
+                flush=True,
+            )
 
 
 if __name__ == "__main__":

@@ -56,14 +56,18 @@ def run(cmd: list[str], **kw) -> subprocess.CompletedProcess:
 
 def same(a: str, b: str) -> bool:
     x, y = nio.load_npz(a)["matrix"], nio.load_npz(b)["matrix"]
-    return (x.shape == y.shape and np.array_equal(x.indptr, y.indptr) and np.array_equal(x.indices, y.indices)
-            and np.array_equal(x.data, y.data))
+    return (
+        x.shape == y.shape
+        and np.array_equal(x.indptr, y.indptr)
+        and np.array_equal(x.indices, y.indices)
+        and np.array_equal(x.data, y.data)
+    )
 
 
 def clear_refusal(p: subprocess.CompletedProcess, partial: str) -> bool:
     err = p.stderr.strip()
     last = err.splitlines()[-1] if err else ""
-    return (p.returncode == 2 and "Traceback" not in err and last.startswith("nusselt: error:") and partial in last)
+    return p.returncode == 2 and "Traceback" not in err and last.startswith("nusselt: error:") and partial in last
 
 
 def corrupt(partial: str, rng: random.Random, foreign: str) -> str:
@@ -123,15 +127,30 @@ def main() -> int:
     ap.add_argument("--trials", type=int, default=30)
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--block-size", type=int, default=60000)
-    ap.add_argument("--kinds", nargs="+", default=["kill", "interrupt", "corrupt"],
-                    choices=["kill", "interrupt", "corrupt"], help="faults to draw from")
+    ap.add_argument(
+        "--kinds",
+        nargs="+",
+        default=["kill", "interrupt", "corrupt"],
+        choices=["kill", "interrupt", "corrupt"],
+        help="faults to draw from",
+    )
     args = ap.parse_args()
     rng = random.Random(args.seed)
     work = tempfile.mkdtemp(prefix="nusselt-faults-")
     scene = os.path.join(work, "cube.obj")
     write_obj(scene, args.n)
-    base = [sys.executable, "-m", "nusselt.cli", "matrix", scene, "-q", "--block-size", str(args.block_size),
-            "--option", "tol=1e-6"]
+    base = [
+        sys.executable,
+        "-m",
+        "nusselt.cli",
+        "matrix",
+        scene,
+        "-q",
+        "--block-size",
+        str(args.block_size),
+        "--option",
+        "tol=1e-6",
+    ]
     ref = os.path.join(work, "ref.npz")
     t0 = time.perf_counter()
     subprocess.run(base + ["-o", ref], check=True, capture_output=True)
@@ -139,11 +158,26 @@ def main() -> int:
     # blocks of another scene, for the "foreign" corruption
     other = os.path.join(work, "other.obj")
     write_obj(other, args.n - 1)
-    fp = subprocess.Popen([sys.executable, "-m", "nusselt.cli", "matrix", other, "-q", "--block-size",
-                           str(args.block_size), "-o", os.path.join(work, "other.npz")],
-                          stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    fp = subprocess.Popen(
+        [
+            sys.executable,
+            "-m",
+            "nusselt.cli",
+            "matrix",
+            other,
+            "-q",
+            "--block-size",
+            str(args.block_size),
+            "-o",
+            os.path.join(work, "other.npz"),
+        ],
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
+    )
     foreign = os.path.join(work, "other.npz.partial")
-    while fp.poll() is None and not (os.path.isdir(foreign) and any(f.startswith("block_") for f in os.listdir(foreign))):
+    while fp.poll() is None and not (
+        os.path.isdir(foreign) and any(f.startswith("block_") for f in os.listdir(foreign))
+    ):
         time.sleep(0.02)
     fp.kill()
     fp.wait()
@@ -157,8 +191,9 @@ def main() -> int:
         partial = out + ".partial"
         p = subprocess.Popen(base + ["-o", out], stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
         if kind == "corrupt":  # something to corrupt: wait for the first block
-            while p.poll() is None and not (os.path.isdir(partial) and any(
-                    f.startswith("block_") for f in os.listdir(partial))):
+            while p.poll() is None and not (
+                os.path.isdir(partial) and any(f.startswith("block_") for f in os.listdir(partial))
+            ):
                 time.sleep(0.01)
             time.sleep(rng.uniform(0.0, 0.5 * t_ref))
         else:

@@ -25,8 +25,10 @@ def corner(a, b, c):
     if a <= 0 or b <= 0:
         return 0.0
     x, y = a / c, b / c
-    return (x / np.sqrt(1 + x * x) * np.arctan(y / np.sqrt(1 + x * x))
-            + y / np.sqrt(1 + y * y) * np.arctan(x / np.sqrt(1 + y * y))) / (2 * np.pi)
+    return (
+        x / np.sqrt(1 + x * x) * np.arctan(y / np.sqrt(1 + x * x))
+        + y / np.sqrt(1 + y * y) * np.arctan(x / np.sqrt(1 + y * y))
+    ) / (2 * np.pi)
 
 
 def rect_f(px, py, x0, x1, y0, y1):
@@ -112,19 +114,28 @@ def room(n: int, method: str, tol: float | None = None, source: str | None = Non
         kw["source"] = source if source in ("centre", "adaptive") else int(source)
     res = nusselt.form_factors(scene, method=method, **kw)
     dt = time.perf_counter() - t0
-    print(f"room with inner box: {len(scene)} patches, method {method} {kw or 'default'}: {dt:.2f} s wall, "
-          f"{len(scene) / dt:.0f} rows/s, max |row sum - 1| = {res.closure_error:.2e}, "
-          f"reciprocity error = {res.reciprocity_error:.2e}")
+    print(
+        f"room with inner box: {len(scene)} patches, method {method} {kw or 'default'}: {dt:.2f} s wall, "
+        f"{len(scene) / dt:.0f} rows/s, max |row sum - 1| = {res.closure_error:.2e}, "
+        f"reciprocity error = {res.reciprocity_error:.2e}"
+    )
 
 
 if __name__ == "__main__":
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--room", type=int, default=8, help="quads per room wall edge (0: skip)")
     p.add_argument("--room-method", default="auto")
-    p.add_argument("--room-tol", type=float, default=None,
-                   help="obstructed accuracy target of the room (auto: obstructed_tol, clipping: tol)")
-    p.add_argument("--room-source", default=None,
-                   help="clipping only: source rule of obstructed pairs ('centre' or k for k x k Gauss points)")
+    p.add_argument(
+        "--room-tol",
+        type=float,
+        default=None,
+        help="obstructed accuracy target of the room (auto: obstructed_tol, clipping: tol)",
+    )
+    p.add_argument(
+        "--room-source",
+        default=None,
+        help="clipping only: source rule of obstructed pairs ('centre' or k for k x k Gauss points)",
+    )
     p.add_argument("--no-table", action="store_true")
     a = p.parse_args()
     if not a.no_table:

@@ -64,10 +64,12 @@ def main() -> None:
         r = np.array(ratios)
         q = np.quantile(r, [0.05, 0.25, 0.5, 0.75, 0.95])
         inside = np.mean((r >= 1 / 30) & (r <= 1))
-        print(f"tol {tol:.0e}: error / (tol F_free) quantiles 5/25/50/75/95 % = "
-              + " ".join(f"{x:.2e}" for x in q)
-              + f"; max {r.max():.2e}; in [1/30, 1]: {100 * inside:.1f} %; above 1: {np.sum(r > 1)};"
-              f" {time.perf_counter() - t0:.1f} s")
+        print(
+            f"tol {tol:.0e}: error / (tol F_free) quantiles 5/25/50/75/95 % = "
+            + " ".join(f"{x:.2e}" for x in q)
+            + f"; max {r.max():.2e}; in [1/30, 1]: {100 * inside:.1f} %; above 1: {np.sum(r > 1)};"
+            f" {time.perf_counter() - t0:.1f} s"
+        )
 
 
 if __name__ == "__main__":

@@ -109,8 +109,10 @@ def main() -> None:
         f = s.dense() if hasattr(s, "dense") else s.matrix
         i, o, k = (list(s.names).index(x) for x in ("inner", "outer", "sphere"))
         inner = np.array([sf == "inner" for sf in np.asarray(spec.surface)[recv]])
-        print(f"{head}; identity error {abs(f[i, k] - (1 - f[i, o])):.2e}, "
-              f"inner max |row sum - 1| = {np.abs(rows[inner] - 1).max():.2e}")
+        print(
+            f"{head}; identity error {abs(f[i, k] - (1 - f[i, o])):.2e}, "
+            f"inner max |row sum - 1| = {np.abs(rows[inner] - 1).max():.2e}"
+        )
     elif a.scene == "plates":
         surf = np.asarray(spec.surface)[recv]
         lo, hi = surf == "lower", surf == "upper"
@@ -118,11 +120,15 @@ def main() -> None:
         g = (area[lo, None] * F[np.ix_(lo, hi)]).sum()
         err = abs(g - scenes.blocker_plates_exact())
         rng = np.random.default_rng(1)
-        pairs = [(int(recv[i]), int(recv[j])) for i, j in zip(rng.choice(np.flatnonzero(lo), a.sample),
-                                                                  rng.choice(np.flatnonzero(hi), a.sample))]
+        pairs = [
+            (int(recv[i]), int(recv[j]))
+            for i, j in zip(rng.choice(np.flatnonzero(lo), a.sample), rng.choice(np.flatnonzero(hi), a.sample))
+        ]
         pe = sample_pair_error(spec, F, recv, pairs, 1e-11)
-        print(f"{head}; {spec.meta['pairs'] * 2} element pairs (ordered); plate F error {err:.2e}, "
-              f"largest element-pair error of {len(pairs)} {pe:.2e}")
+        print(
+            f"{head}; {spec.meta['pairs'] * 2} element pairs (ordered); plate F error {err:.2e}, "
+            f"largest element-pair error of {len(pairs)} {pe:.2e}"
+        )
     else:
         rng = np.random.default_rng(1)
         pairs = obstructed_sample(F, None, recv, a.sample, rng)

@@ -27,8 +27,9 @@ def main():
     ap.add_argument("--seed", type=int, default=3)
     ap.add_argument("--pairs", type=int, default=1500)
     ap.add_argument("--floor", type=float, default=1e-6)
-    ap.add_argument("--reference", action="store_true",
-                    help="judge each method against the 40-digit reference (about 0.3 s a pair)")
+    ap.add_argument(
+        "--reference", action="store_true", help="judge each method against the 40-digit reference (about 0.3 s a pair)"
+    )
     args = ap.parse_args()
     worst, tried = {}, 0
     for k, a, b in random_pairs(args.seed, args.pairs):
@@ -53,8 +54,12 @@ def main():
         for m, e in errs.items():
             if e > worst.get(m, (0.0, None))[0]:
                 worst[m] = (e, k)
-    print(f"{tried} pairs; worst relative " + ("error" if args.reference else "spread") + ": "
-          + ", ".join(f"{m} {e:.1e} (pair {k})" for m, (e, k) in worst.items()))
+    print(
+        f"{tried} pairs; worst relative "
+        + ("error" if args.reference else "spread")
+        + ": "
+        + ", ".join(f"{m} {e:.1e} (pair {k})" for m, (e, k) in worst.items())
+    )
 
 
 if __name__ == "__main__":

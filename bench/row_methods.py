@@ -126,11 +126,22 @@ def accuracy(n, sweeps, auto_tols, ref_tol):
     print(f"Reference: auto, obstructed_tol={ref_tol:g} ...", flush=True)
     ref, t_ref = timed(lambda: nusselt.form_factors(scene, method="auto", obstructed_tol=ref_tol), min_total=0)
     R, Rs = ref.dense(), ref.by_surface().dense()
-    print(f"(reference computed in {t_ref:.1f} s; max |row sum - 1| = {ref.closure_error:.1e}, "
-          f"reciprocity error = {ref.reciprocity_error:.1e})\n", flush=True)
+    print(
+        f"(reference computed in {t_ref:.1f} s; max |row sum - 1| = {ref.closure_error:.1e}, "
+        f"reciprocity error = {ref.reciprocity_error:.1e})\n",
+        flush=True,
+    )
 
-    header = ["method", "setting", "wall s", "rows/s", "max abs err (patch)", "max abs err (surface)",
-              "max abs(row sum - 1)", "notes"]
+    header = [
+        "method",
+        "setting",
+        "wall s",
+        "rows/s",
+        "max abs err (patch)",
+        "max abs err (surface)",
+        "max abs(row sum - 1)",
+        "notes",
+    ]
     rows, points = [], []
     for tol in auto_tols:
         if tol == ref_tol:
@@ -141,8 +152,9 @@ def accuracy(n, sweeps, auto_tols, ref_tol):
             e, es = np.abs(res.dense() - R).max(), np.abs(res.by_surface().dense() - Rs).max()
             pe, se = f"{e:.2e}", f"{es:.2e}"
             points.append(("auto", {"obstructed_tol": tol}, dt, e, es))
-        rows.append(["auto", f"obstructed_tol={tol:g}", f"{dt:.2f}", f"{N / dt:.1f}", pe, se,
-                     f"{res.closure_error:.1e}", ""])
+        rows.append(
+            ["auto", f"obstructed_tol={tol:g}", f"{dt:.2f}", f"{N / dt:.1f}", pe, se, f"{res.closure_error:.1e}", ""]
+        )
         print(f"  auto tol={tol:g}: {dt:.2f} s", flush=True)
     for method, settings in sweeps.items():
         for opts in settings:
@@ -151,8 +163,18 @@ def accuracy(n, sweeps, auto_tols, ref_tol):
             es = np.abs(res.by_surface().dense() - Rs).max()
             points.append((method, opts, dt, e, es))
             lab = label(opts) + (" (default)" if is_default(method, opts) else "")
-            rows.append([method, lab, f"{dt:.2f}", f"{N / dt:.0f}", f"{e:.2e}", f"{es:.2e}",
-                         f"{res.closure_error:.1e}", notes(res, R)])
+            rows.append(
+                [
+                    method,
+                    lab,
+                    f"{dt:.2f}",
+                    f"{N / dt:.0f}",
+                    f"{e:.2e}",
+                    f"{es:.2e}",
+                    f"{res.closure_error:.1e}",
+                    notes(res, R),
+                ]
+            )
             print(f"  {method} {lab}: {dt:.2f} s", flush=True)
     print()
     print_table(header, rows)
@@ -163,8 +185,9 @@ def throughput(n, refine, Rs, auto_room, auto_limit):
     base = room_scene(n)
     scene = base.refined(1.0 / refine) if refine > 1 else base
     N = len(scene)
-    print(f"## Throughput: room_with_crate({n}).refined(max_edge=1/{refine}), {N} patches, default settings\n",
-          flush=True)
+    print(
+        f"## Throughput: room_with_crate({n}).refined(max_edge=1/{refine}), {N} patches, default settings\n", flush=True
+    )
     header = ["method", "patches", "wall s", "rows/s", "max abs err (surface)", "max abs(row sum - 1)", "notes"]
     rows = []
     for method in DEFAULTS:
@@ -182,10 +205,18 @@ def throughput(n, refine, Rs, auto_room, auto_limit):
     res = nusselt.form_factors(a_scene, method="auto")
     dt = time.perf_counter() - t0
     es = np.abs(res.by_surface().dense() - Rs).max()
-    rows.append(["auto (obstructed_tol=1e-6)", f"{len(a_scene)}", f"{dt:.1f}", f"{len(a_scene) / dt:.1f}", f"{es:.2e}",
-                 f"{res.closure_error:.1e}",
-                 f"room_with_crate({auto_room}): the largest room that finishes in ~{auto_limit:.0f} s"
-                 + (f"; not run on {N} patches" if len(a_scene) != N else "")])
+    rows.append(
+        [
+            "auto (obstructed_tol=1e-6)",
+            f"{len(a_scene)}",
+            f"{dt:.1f}",
+            f"{len(a_scene) / dt:.1f}",
+            f"{es:.2e}",
+            f"{res.closure_error:.1e}",
+            f"room_with_crate({auto_room}): the largest room that finishes in ~{auto_limit:.0f} s"
+            + (f"; not run on {N} patches" if len(a_scene) != N else ""),
+        ]
+    )
     print(f"  auto on {len(a_scene)} patches: {dt:.1f} s\n", flush=True)
     print_table(header, rows)
 
@@ -193,10 +224,20 @@ def throughput(n, refine, Rs, auto_room, auto_limit):
 # --------------------------------------------------------------------------- SVG
 
 
-COLORS = {"hemicube": "#1f77b4", "single-plane": "#ff7f0e", "raytrace": "#2ca02c", "nusselt": "#d62728",
-          "auto": "#444444"}
-MARKERS = {"hemicube": "circle", "single-plane": "square", "raytrace": "diamond", "nusselt": "triangle",
-           "auto": "cross"}
+COLORS = {
+    "hemicube": "#1f77b4",
+    "single-plane": "#ff7f0e",
+    "raytrace": "#2ca02c",
+    "nusselt": "#d62728",
+    "auto": "#444444",
+}
+MARKERS = {
+    "hemicube": "circle",
+    "single-plane": "square",
+    "raytrace": "diamond",
+    "nusselt": "triangle",
+    "auto": "cross",
+}
 
 
 def _marker(kind, x, y, color, r=4.5):
@@ -206,14 +247,20 @@ def _marker(kind, x, y, color, r=4.5):
         return f'<rect x="{x - r:.1f}" y="{y - r:.1f}" width="{2 * r}" height="{2 * r}" fill="{color}"/>'
     if kind == "diamond":
         r *= 1.3
-        return (f'<polygon points="{x:.1f},{y - r:.1f} {x + r:.1f},{y:.1f} {x:.1f},{y + r:.1f} {x - r:.1f},{y:.1f}" '
-                f'fill="{color}"/>')
+        return (
+            f'<polygon points="{x:.1f},{y - r:.1f} {x + r:.1f},{y:.1f} {x:.1f},{y + r:.1f} {x - r:.1f},{y:.1f}" '
+            f'fill="{color}"/>'
+        )
     if kind == "triangle":
         r *= 1.25
-        return (f'<polygon points="{x:.1f},{y - r:.1f} {x + 0.87 * r:.1f},{y + 0.5 * r:.1f} '
-                f'{x - 0.87 * r:.1f},{y + 0.5 * r:.1f}" fill="{color}"/>')
-    return (f'<path d="M{x - r:.1f},{y - r:.1f}L{x + r:.1f},{y + r:.1f}M{x - r:.1f},{y + r:.1f}L{x + r:.1f},{y - r:.1f}" '
-            f'stroke="{color}" stroke-width="2.5"/>')
+        return (
+            f'<polygon points="{x:.1f},{y - r:.1f} {x + 0.87 * r:.1f},{y + 0.5 * r:.1f} '
+            f'{x - 0.87 * r:.1f},{y + 0.5 * r:.1f}" fill="{color}"/>'
+        )
+    return (
+        f'<path d="M{x - r:.1f},{y - r:.1f}L{x + r:.1f},{y + r:.1f}M{x - r:.1f},{y + r:.1f}L{x + r:.1f},{y - r:.1f}" '
+        f'stroke="{color}" stroke-width="2.5"/>'
+    )
 
 
 def _pow10(k):
@@ -228,10 +275,12 @@ def write_svg(path, points, t_ref, ref_tol, title):
     # decades, with room for a marker at the edge
     x0, x1 = math.floor(math.log10(min(times)) - 0.1), math.ceil(math.log10(max(times)) + 0.1)
     y0, y1 = math.floor(math.log10(min(errs)) - 0.1), math.ceil(math.log10(max(errs)) + 0.1)
-    out = [f'<svg xmlns="http://www.w3.org/2000/svg" width="{W}" height="{H}" viewBox="0 0 {W} {H}" '
-           f'font-family="Helvetica, Arial, sans-serif" font-size="12">',
-           f'<rect width="{W}" height="{H}" fill="white"/>',
-           f'<text x="{W / 2}" y="22" text-anchor="middle" font-size="14">{title}</text>']
+    out = [
+        f'<svg xmlns="http://www.w3.org/2000/svg" width="{W}" height="{H}" viewBox="0 0 {W} {H}" '
+        f'font-family="Helvetica, Arial, sans-serif" font-size="12">',
+        f'<rect width="{W}" height="{H}" fill="white"/>',
+        f'<text x="{W / 2}" y="22" text-anchor="middle" font-size="14">{title}</text>',
+    ]
     for panel, (col, name) in enumerate([(3, "patch level (max over F_ij)"), (4, "surface level (by_surface)")]):
         ox = ml + panel * (pw + 110)
         X = lambda t: ox + (math.log10(t) - x0) / (x1 - x0) * pw
@@ -239,25 +288,29 @@ def write_svg(path, points, t_ref, ref_tol, title):
         out.append(f'<rect x="{ox}" y="{mt}" width="{pw}" height="{ph}" fill="none" stroke="black"/>')
         out.append(f'<text x="{ox + pw / 2}" y="{mt - 8}" text-anchor="middle">{name}</text>')
         for k in range(x0, x1 + 1):
-            x = X(10.0 ** k)
+            x = X(10.0**k)
             out.append(f'<line x1="{x:.1f}" y1="{mt}" x2="{x:.1f}" y2="{mt + ph}" stroke="#ddd"/>')
             out.append(f'<text x="{x:.1f}" y="{mt + ph + 18}" text-anchor="middle">{_pow10(k)}</text>')
             for m in range(2, 10):
                 if k < x1:
-                    xm = X(m * 10.0 ** k)
+                    xm = X(m * 10.0**k)
                     out.append(f'<line x1="{xm:.1f}" y1="{mt + ph}" x2="{xm:.1f}" y2="{mt + ph - 4}" stroke="black"/>')
         for k in range(y0, y1 + 1):
-            y = Y(10.0 ** k)
+            y = Y(10.0**k)
             out.append(f'<line x1="{ox}" y1="{y:.1f}" x2="{ox + pw}" y2="{y:.1f}" stroke="#ddd"/>')
             out.append(f'<text x="{ox - 6}" y="{y + 4:.1f}" text-anchor="end">{_pow10(k)}</text>')
         out.append(f'<text x="{ox + pw / 2}" y="{mt + ph + 40}" text-anchor="middle">wall time [s] (2 cores)</text>')
-        out.append(f'<text transform="translate({ox - 48},{mt + ph / 2}) rotate(-90)" text-anchor="middle">'
-                   f'max abs error vs exact</text>')
+        out.append(
+            f'<text transform="translate({ox - 48},{mt + ph / 2}) rotate(-90)" text-anchor="middle">'
+            f"max abs error vs exact</text>"
+        )
         # the reference's own time: a vertical dashed line (its error, ~ref_tol/100, is not measured)
         xr = X(t_ref)
         out.append(f'<line x1="{xr:.1f}" y1="{mt}" x2="{xr:.1f}" y2="{mt + ph}" stroke="#444" stroke-dasharray="5,4"/>')
-        out.append(f'<text x="{xr - 4:.1f}" y="{mt + 14}" text-anchor="end" font-size="10" fill="#444">'
-                   f'auto {ref_tol:g} (reference)</text>')
+        out.append(
+            f'<text x="{xr - 4:.1f}" y="{mt + 14}" text-anchor="end" font-size="10" fill="#444">'
+            f"auto {ref_tol:g} (reference)</text>"
+        )
         for method in COLORS:
             pts = sorted((p for p in points if p[0] == method and p[col] > 0), key=lambda p: p[2])
             if not pts:
@@ -302,8 +355,8 @@ FULL = dict(
     },
     auto_tols=(1e-3, 1e-4, 1e-6),
     ref_tol=1e-6,
-    refine=6,        # 18 x 18 quads per wall, 6 x 6 per crate face: 2160 patches
-    auto_room=6,     # 82 s; room_with_crate(8) did not finish in 5 minutes
+    refine=6,  # 18 x 18 quads per wall, 6 x 6 per crate face: 2160 patches
+    auto_room=6,  # 82 s; room_with_crate(8) did not finish in 5 minutes
     auto_limit=120,
 )
 
@@ -336,15 +389,26 @@ def main():
         cfg["refine"] = a.refine
     if a.auto_room:
         cfg["auto_room"] = a.auto_room
-    svg = a.svg or (os.path.join(tempfile.gettempdir(), "row-methods-quick.svg") if a.quick
-                    else os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "docs", "row-methods.svg"))
+    svg = a.svg or (
+        os.path.join(tempfile.gettempdir(), "row-methods-quick.svg")
+        if a.quick
+        else os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "docs", "row-methods.svg")
+    )
     start = time.perf_counter()
-    print(f"nusselt {getattr(nusselt, '__version__', '?')}, Python {platform.python_version()}, "
-          f"{os.cpu_count()} cores, {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}\n", flush=True)
+    print(
+        f"nusselt {getattr(nusselt, '__version__', '?')}, Python {platform.python_version()}, "
+        f"{os.cpu_count()} cores, {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}\n",
+        flush=True,
+    )
     points, t_ref, Rs = accuracy(cfg["n"], cfg["sweeps"], cfg["auto_tols"], cfg["ref_tol"])
     N = len(room_scene(cfg["n"]))
-    write_svg(svg, points, t_ref, cfg["ref_tol"], f"Row methods on room_with_crate({cfg['n']}) ({N} patches): "
-                                  f"max abs error vs exact auto, against wall time")
+    write_svg(
+        svg,
+        points,
+        t_ref,
+        cfg["ref_tol"],
+        f"Row methods on room_with_crate({cfg['n']}) ({N} patches): max abs error vs exact auto, against wall time",
+    )
     print(f"plot written to {os.path.normpath(svg)}\n", flush=True)
     if not a.no_throughput:
         throughput(cfg["n"], cfg["refine"], Rs, cfg["auto_room"], cfg["auto_limit"])

@@ -25,8 +25,8 @@ furniture, and objects standing on the floor need no special meshing.
 
 from __future__ import annotations
 
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-from typing import Callable, Sequence
 
 import numpy as np
 
@@ -110,9 +110,9 @@ def cell_enclosure(xs, ys, zs, solid: Callable[[float, float, float], bool], max
                     while a1 + 1 < mask.shape[0] and mask[a1 + 1, b0]:
                         a1 += 1
                     b1 = b0
-                    while b1 + 1 < mask.shape[1] and mask[a0:a1 + 1, b1 + 1].all():
+                    while b1 + 1 < mask.shape[1] and mask[a0 : a1 + 1, b1 + 1].all():
                         b1 += 1
-                    mask[a0:a1 + 1, b0:b1 + 1] = False
+                    mask[a0 : a1 + 1, b0 : b1 + 1] = False
                     lo_u, hi_u, lo_w, hi_w = g[u][a0], g[u][a1 + 1], g[w][b0], g[w][b1 + 1]
                     nu = max(1, int(np.ceil((hi_u - lo_u) / max_edge - 1e-9)))
                     nw = max(1, int(np.ceil((hi_w - lo_w) / max_edge - 1e-9)))
@@ -222,8 +222,14 @@ def prism(r: float, n: int, inward: bool, rings: int = 1) -> list[np.ndarray]:
         a0, a1 = 2 * np.pi * k / n, 2 * np.pi * (k + 1) / n
         for h in range(rings):
             z0, z1 = h / rings, (h + 1) / rings
-            q = np.array([[r * np.cos(a0), r * np.sin(a0), z0], [r * np.cos(a1), r * np.sin(a1), z0],
-                          [r * np.cos(a1), r * np.sin(a1), z1], [r * np.cos(a0), r * np.sin(a0), z1]])
+            q = np.array(
+                [
+                    [r * np.cos(a0), r * np.sin(a0), z0],
+                    [r * np.cos(a1), r * np.sin(a1), z0],
+                    [r * np.cos(a1), r * np.sin(a1), z1],
+                    [r * np.cos(a0), r * np.sin(a0), z1],
+                ]
+            )
             out.append(q[::-1].copy() if inward else q)  # counter-clockwise seen from outside
     return out
 
@@ -278,8 +284,7 @@ def blocker_plates(n_lower: tuple[int, int], n_upper: tuple[int, int] | None = N
     obstruction = np.zeros(len(polys), bool)
     obstruction[-1] = True
     surf = ["lower"] * len(lo) + ["upper"] * len(hi) + ["blocker"]
-    return Spec("blocker plates", polys, surf, obstruction=obstruction,
-                meta={"pairs": len(lo) * len(hi)})
+    return Spec("blocker plates", polys, surf, obstruction=obstruction, meta={"pairs": len(lo) * len(hi)})
 
 
 def _corner(a: float, b: float) -> float:
@@ -288,8 +293,10 @@ def _corner(a: float, b: float) -> float:
     if a <= 0 or b <= 0:
         return 0.0
     x, y = a, b
-    return (x / np.sqrt(1 + x * x) * np.arctan(y / np.sqrt(1 + x * x))
-            + y / np.sqrt(1 + y * y) * np.arctan(x / np.sqrt(1 + y * y))) / (2 * np.pi)
+    return (
+        x / np.sqrt(1 + x * x) * np.arctan(y / np.sqrt(1 + x * x))
+        + y / np.sqrt(1 + y * y) * np.arctan(x / np.sqrt(1 + y * y))
+    ) / (2 * np.pi)
 
 
 def _rect_f(px, py, x0, x1, y0, y1):

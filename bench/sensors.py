@@ -42,17 +42,25 @@ def tiles(face: np.ndarray, size: float):
     nu = max(1, int(np.ceil(np.linalg.norm(b - a) / size - 1e-9)))
     nv = max(1, int(np.ceil(np.linalg.norm(d - a) / size - 1e-9)))
     u, v = (b - a) / nu, (d - a) / nv
-    return [np.array([a + i * u + j * v, a + (i + 1) * u + j * v, a + (i + 1) * u + (j + 1) * v, a + i * u + (j + 1) * v])
-            for i in range(nu) for j in range(nv)]
+    return [
+        np.array([a + i * u + j * v, a + (i + 1) * u + j * v, a + (i + 1) * u + (j + 1) * v, a + i * u + (j + 1) * v])
+        for i in range(nu)
+        for j in range(nv)
+    ]
 
 
 NAMES = ["floor", "ceiling", "wall_south", "wall_north", "wall_west", "wall_east"]
 
 
-FURNITURE = [("table", (0.8, 0.8, 0.70), (2.0, 1.6, 0.75)), ("table", (3.0, 0.8, 0.70), (4.2, 1.6, 0.75)),
-             ("table", (0.8, 3.0, 0.70), (2.0, 3.8, 0.75)), ("table", (3.0, 3.0, 0.70), (4.2, 3.8, 0.75)),
-             ("cabinet", (5.4, 0.2, 0.0), (5.9, 1.4, 1.9)), ("cabinet", (5.4, 3.4, 0.0), (5.9, 4.6, 1.9)),
-             ("partition", (2.7, 2.0, 0.0), (2.75, 3.0, 1.6))]
+FURNITURE = [
+    ("table", (0.8, 0.8, 0.70), (2.0, 1.6, 0.75)),
+    ("table", (3.0, 0.8, 0.70), (4.2, 1.6, 0.75)),
+    ("table", (0.8, 3.0, 0.70), (2.0, 3.8, 0.75)),
+    ("table", (3.0, 3.0, 0.70), (4.2, 3.8, 0.75)),
+    ("cabinet", (5.4, 0.2, 0.0), (5.9, 1.4, 1.9)),
+    ("cabinet", (5.4, 3.4, 0.0), (5.9, 4.6, 1.9)),
+    ("partition", (2.7, 2.0, 0.0), (2.75, 3.0, 1.6)),
+]
 
 
 def outside_furniture(pts: np.ndarray) -> np.ndarray:
@@ -102,8 +110,10 @@ def main() -> None:
     t1, c1 = time.perf_counter(), os.times()
     cpu = (c1.user - c0.user) + (c1.system - c0.system)
     rs = np.asarray(f.sum(axis=1)).ravel()
-    print(f"{len(pts)} points x {len(scene)} patches ({'sphere' if a.sphere else 'plane'}): wall {t1 - t0:.2f} s, "
-          f"CPU {cpu:.2f} s, nnz {f.nnz}, row sums {rs.min():.12f} .. {rs.max():.12f}")
+    print(
+        f"{len(pts)} points x {len(scene)} patches ({'sphere' if a.sphere else 'plane'}): wall {t1 - t0:.2f} s, "
+        f"CPU {cpu:.2f} s, nnz {f.nnz}, row sums {rs.min():.12f} .. {rs.max():.12f}"
+    )
 
 
 if __name__ == "__main__":

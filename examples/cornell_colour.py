@@ -46,9 +46,15 @@ def main(argv=None) -> int:
     sol = radiosity.solve(f, rho, emit, method=args.solver, tol=1e-8)
     bal = sol.energy_balance(f.areas, rho, emit, f)
     print(f"{len(scene)} patches, {args.solver}: {sol.iterations} iterations, residual {sol.residual:.1e}")
-    print("energy per channel (R, G, B): emitted", np.round(bal["emitted"] / 1e6, 4), "= absorbed",
-          np.round(bal["absorbed"] / 1e6, 4), "+ escaping through the open front", np.round(bal["escaping"] / 1e6, 4),
-          "(x 1e6, units of the emission x mm2)")
+    print(
+        "energy per channel (R, G, B): emitted",
+        np.round(bal["emitted"] / 1e6, 4),
+        "= absorbed",
+        np.round(bal["absorbed"] / 1e6, 4),
+        "+ escaping through the open front",
+        np.round(bal["escaping"] / 1e6, 4),
+        "(x 1e6, units of the emission x mm2)",
+    )
     # Colour bleeding in numbers: the mean radiosity of the white surfaces near each coloured wall.
     names = [scene.surface_names[s] for s in scene.surface]
     centre = np.array([np.asarray(q).mean(axis=0) for q in scene.polygons])
@@ -57,11 +63,18 @@ def main(argv=None) -> int:
         left, right = m & (centre[:, 0] > 456), m & (centre[:, 0] < 100)
         bl = (sol.radiosity[left] * scene.areas[left, None]).sum(0) / scene.areas[left].sum()
         br = (sol.radiosity[right] * scene.areas[right, None]).sum(0) / scene.areas[right].sum()
-        print(f"  {wall:8s} next to the red wall: R/G = {bl[0] / bl[1]:.2f}; next to the green wall: "
-              f"R/G = {br[0] / br[1]:.2f} (white paint alone: {0.73 / 0.71:.2f} x the light's R/G)")
+        print(
+            f"  {wall:8s} next to the red wall: R/G = {bl[0] / bl[1]:.2f}; next to the green wall: "
+            f"R/G = {br[0] / br[1]:.2f} (white paint alone: {0.73 / 0.71:.2f} x the light's R/G)"
+        )
     colours = radiosity.display_colours(sol.radiosity, emit)
-    image = render_rgb(scene.polygons, vertex_values(scene.polygons, colours, scene.surface),
-                       eye=(278.0, 273.0, -800.0), look=(0.0, 0.0, 1.0), size=args.size)
+    image = render_rgb(
+        scene.polygons,
+        vertex_values(scene.polygons, colours, scene.surface),
+        eye=(278.0, 273.0, -800.0),
+        look=(0.0, 0.0, 1.0),
+        size=args.size,
+    )
     write_png(args.output, image)
     print(f"wrote {os.path.abspath(args.output)} ({time.perf_counter() - t0:.1f} s)")
     return 0

@@ -71,19 +71,30 @@ def surface_radiosity(b: np.ndarray, scene: nusselt.Scene) -> dict[str, np.ndarr
 
 def main(argv=None) -> int:
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    p.add_argument("--refine", type=float, default=100.0, metavar="MM",
-                   help="largest patch edge in mm (default: %(default)s; smaller = finer and slower)")
+    p.add_argument(
+        "--refine",
+        type=float,
+        default=100.0,
+        metavar="MM",
+        help="largest patch edge in mm (default: %(default)s; smaller = finer and slower)",
+    )
     p.add_argument("--output", default="cornell_radiosity.png", help="PNG to write (default: %(default)s)")
     p.add_argument("--resolution", type=int, default=128, help="hemicube resolution (default: %(default)s)")
     p.add_argument("--size", type=int, default=400, help="image size in pixels (default: %(default)s)")
-    p.add_argument("--channel", choices=["luminance", "red", "green", "blue"], default="luminance",
-                   help="what the picture shows (default: %(default)s)")
+    p.add_argument(
+        "--channel",
+        choices=["luminance", "red", "green", "blue"],
+        default="luminance",
+        help="what the picture shows (default: %(default)s)",
+    )
     args = p.parse_args(argv)
 
     coarse = nusselt.Scene.from_file(bundled("cornell_box.obj"))
     fine = coarse.refined(args.refine)
-    print(f"Cornell box: {len(coarse)} polygons, {len(coarse.surface_names)} named surfaces; "
-          f"refined to edges <= {args.refine:g} mm: {len(fine)} patches")
+    print(
+        f"Cornell box: {len(coarse)} polygons, {len(coarse.surface_names)} named surfaces; "
+        f"refined to edges <= {args.refine:g} mm: {len(fine)} patches"
+    )
 
     # --- form factors ---------------------------------------------------------------------
     t0 = time.perf_counter()
@@ -102,9 +113,11 @@ def main(argv=None) -> int:
     assert hs.names == rs.names
     diff = np.abs(hs.dense() - rs.dense())
     i, j = np.unravel_index(np.argmax(diff), diff.shape)
-    print(f"per named surface, hemicube vs auto: largest |dF| = {diff.max():.4f} "
-          f"({hs.names[i]} -> {hs.names[j]}: {hs.dense()[i, j]:.4f} vs {rs.dense()[i, j]:.4f}); "
-          f"row sums differ by at most {np.max(np.abs(hs.row_sums - rs.row_sums)):.4f}")
+    print(
+        f"per named surface, hemicube vs auto: largest |dF| = {diff.max():.4f} "
+        f"({hs.names[i]} -> {hs.names[j]}: {hs.dense()[i, j]:.4f} vs {rs.dense()[i, j]:.4f}); "
+        f"row sums differ by at most {np.max(np.abs(hs.row_sums - rs.row_sums)):.4f}"
+    )
 
     # --- radiosity --------------------------------------------------------------------------
     rho_f, emit_f = colours(fine)
@@ -124,12 +137,22 @@ def main(argv=None) -> int:
     is_light = np.array([fine.surface_names[s] == "light" for s in fine.surface])
     value = np.minimum(value, value[~is_light].max())  # the light would swamp a linear scale
     value = value ** (1 / 2.2)  # display gamma, as an image viewer expects (tone mapping, not physics)
-    image = render(fine.polygons, value, eye=(278.0, 273.0, -800.0), look=(0.0, 0.0, 1.0), up=(0.0, 1.0, 0.0),
-                   fov_deg=39.3, size=args.size, log=False)
+    image = render(
+        fine.polygons,
+        value,
+        eye=(278.0, 273.0, -800.0),
+        look=(0.0, 0.0, 1.0),
+        up=(0.0, 1.0, 0.0),
+        fov_deg=39.3,
+        size=args.size,
+        log=False,
+    )
     write_png(args.output, image)
-    print(f"\nwrote {os.path.abspath(args.output)}: {args.channel} of every patch (flat, false colour, "
-          f"value^(1/2.2) on a linear scale, light clipped to the brightest other patch) "
-          f"({time.perf_counter() - t0:.1f} s in all)")
+    print(
+        f"\nwrote {os.path.abspath(args.output)}: {args.channel} of every patch (flat, false colour, "
+        f"value^(1/2.2) on a linear scale, light clipped to the brightest other patch) "
+        f"({time.perf_counter() - t0:.1f} s in all)"
+    )
     return 0
 
 

@@ -38,9 +38,16 @@ from nusselt import exchange, sensors
 
 # name: (temperature K, emissivity)
 SURFACES = {
-    "floor": (294.0, 0.90), "ceiling": (294.5, 0.90), "wall_south": (290.0, 0.90), "wall_north": (293.0, 0.90),
-    "wall_west": (293.0, 0.90), "wall_east": (293.0, 0.90), "window": (279.0, 0.84), "radiator": (323.0, 0.95),
-    "desks": (294.0, 0.85), "cabinet": (293.5, 0.85),
+    "floor": (294.0, 0.90),
+    "ceiling": (294.5, 0.90),
+    "wall_south": (290.0, 0.90),
+    "wall_north": (293.0, 0.90),
+    "wall_west": (293.0, 0.90),
+    "wall_east": (293.0, 0.90),
+    "window": (279.0, 0.84),
+    "radiator": (323.0, 0.95),
+    "desks": (294.0, 0.85),
+    "cabinet": (293.5, 0.85),
 }
 
 
@@ -53,9 +60,13 @@ def box(lo, hi):
     """The five visible faces of a box standing on the floor (fronts outwards, no bottom)."""
     (x0, y0, z0), (x1, y1, z1) = lo, hi
     dx, dy, dz = x1 - x0, y1 - y0, z1 - z0
-    return [rect([x0, y0, z1], [dx, 0, 0], [0, dy, 0]), rect([x0, y0, z0], [dx, 0, 0], [0, 0, dz]),
-            rect([x0, y1, z0], [0, 0, dz], [dx, 0, 0]), rect([x0, y0, z0], [0, 0, dz], [0, dy, 0]),
-            rect([x1, y0, z0], [0, dy, 0], [0, 0, dz])]
+    return [
+        rect([x0, y0, z1], [dx, 0, 0], [0, dy, 0]),
+        rect([x0, y0, z0], [dx, 0, 0], [0, 0, dz]),
+        rect([x0, y1, z0], [0, 0, dz], [dx, 0, 0]),
+        rect([x0, y0, z0], [0, 0, dz], [0, dy, 0]),
+        rect([x1, y0, z0], [0, dy, 0], [0, 0, dz]),
+    ]
 
 
 #: (x0, x1, y0, y1) of the desks and the cabinet: cut out of the floor, which they hide
@@ -88,10 +99,15 @@ def office() -> dict[str, list[np.ndarray]]:
         # the south wall (y = 0, facing +y) around a 3 x 1.5 m window and a 2 x 0.5 m radiator below it
         "window": [rect([1.0, 0, 0.9], [0, 0, 1.5], [3.0, 0, 0])],
         "radiator": [rect([1.5, 0, 0.15], [0, 0, 0.5], [2.0, 0, 0])],
-        "wall_south": [rect([0, 0, 0], [0, 0, H], [1.0, 0, 0]), rect([4.0, 0, 0], [0, 0, H], [1.0, 0, 0]),
-                       rect([1.0, 0, 2.4], [0, 0, 0.3], [3.0, 0, 0]), rect([1.0, 0, 0], [0, 0, 0.9], [0.5, 0, 0]),
-                       rect([3.5, 0, 0], [0, 0, 0.9], [0.5, 0, 0]), rect([1.5, 0, 0.65], [0, 0, 0.25], [2.0, 0, 0]),
-                       rect([1.5, 0, 0], [0, 0, 0.15], [2.0, 0, 0])],
+        "wall_south": [
+            rect([0, 0, 0], [0, 0, H], [1.0, 0, 0]),
+            rect([4.0, 0, 0], [0, 0, H], [1.0, 0, 0]),
+            rect([1.0, 0, 2.4], [0, 0, 0.3], [3.0, 0, 0]),
+            rect([1.0, 0, 0], [0, 0, 0.9], [0.5, 0, 0]),
+            rect([3.5, 0, 0], [0, 0, 0.9], [0.5, 0, 0]),
+            rect([1.5, 0, 0.65], [0, 0, 0.25], [2.0, 0, 0]),
+            rect([1.5, 0, 0], [0, 0, 0.15], [2.0, 0, 0]),
+        ],
         # two desks as solid blocks 0.75 m high, and a cabinet by the north wall
         "desks": box((0.8, 1.2, 0), (2.2, 2.0, 0.75)) + box((2.8, 1.2, 0), (4.2, 2.0, 0.75)),
         "cabinet": box((3.6, 3.4, 0), (4.8, 3.9, 1.9)),  # keep FOOTPRINTS in step
@@ -136,7 +152,9 @@ def main() -> None:
     print(f"{'surface':12s} {'T (K)':>7s} {'eps':>5s} {'area m2':>8s} {'J W/m2':>8s} {'T_eff K':>8s} {'Q (W)':>9s}")
     t_eff = (ex.radiosity / exchange.SIGMA) ** 0.25
     for k, n in enumerate(names):
-        print(f"{n:12s} {temp[k]:7.1f} {eps[k]:5.2f} {ff.areas[k]:8.2f} {ex.radiosity[k]:8.1f} {t_eff[k]:8.2f} {ex.heat[k]:9.1f}")
+        print(
+            f"{n:12s} {temp[k]:7.1f} {eps[k]:5.2f} {ff.areas[k]:8.2f} {ex.radiosity[k]:8.1f} {t_eff[k]:8.2f} {ex.heat[k]:9.1f}"
+        )
     print(f"sum of Q: {ex.heat.sum():.2e} W (a closed room: 0 up to the rows' closure error)")
 
     # 3. the MRT map at 1.1 m, points inside the cabinet left out
@@ -156,12 +174,22 @@ def main() -> None:
     t2 = time.perf_counter()
     asym = tpr["front"] - tpr["back"]
     out = os.path.join(outdir, "mrt_map.csv")
-    np.savetxt(out, np.column_stack([pts, mrt_sphere, mrt_seated, tpr["front"], tpr["back"]]), delimiter=",",
-               header="x,y,z,t_mrt_sphere,t_mrt_seated,t_pr_front,t_pr_back", comments="", fmt="%.6f")
-    print(f"\nMRT at 1.1 m on {len(pts)} points ({t2 - t1:.1f} s): sphere {mrt_sphere.min() - 273.15:.2f} .. "
-          f"{mrt_sphere.max() - 273.15:.2f} C, seated (ISO 7726) {mrt_seated.min() - 273.15:.2f} .. {mrt_seated.max() - 273.15:.2f} C")
+    np.savetxt(
+        out,
+        np.column_stack([pts, mrt_sphere, mrt_seated, tpr["front"], tpr["back"]]),
+        delimiter=",",
+        header="x,y,z,t_mrt_sphere,t_mrt_seated,t_pr_front,t_pr_back",
+        comments="",
+        fmt="%.6f",
+    )
+    print(
+        f"\nMRT at 1.1 m on {len(pts)} points ({t2 - t1:.1f} s): sphere {mrt_sphere.min() - 273.15:.2f} .. "
+        f"{mrt_sphere.max() - 273.15:.2f} C, seated (ISO 7726) {mrt_seated.min() - 273.15:.2f} .. {mrt_seated.max() - 273.15:.2f} C"
+    )
     k = int(np.argmax(np.abs(asym)))
-    print(f"largest radiant asymmetry front/back (towards the window): {asym[k]:.2f} K at x={pts[k, 0]:.2f}, y={pts[k, 1]:.2f}")
+    print(
+        f"largest radiant asymmetry front/back (towards the window): {asym[k]:.2f} K at x={pts[k, 0]:.2f}, y={pts[k, 1]:.2f}"
+    )
     # a coarse text map of the sphere MRT (rows: north at the top)
     grid = np.full(gx.shape, np.nan)
     idx = np.flatnonzero(~inside)

@@ -81,8 +81,10 @@ def main(argv=None) -> int:
     print(r.table())
     k = names.index("radiator")
     alone = eps[k] * SIGMA * (290.0**4 - 3.0**4) * ff.areas[k]
-    print(f"the radiator rejects {r.heat[k]:.1f} W; seeing only space it would reject {alone:.1f} W "
-          f"({100 * (1 - r.heat[k] / alone):.1f} % less: its neighbours hide part of the sky and send radiation back)")
+    print(
+        f"the radiator rejects {r.heat[k]:.1f} W; seeing only space it would reject {alone:.1f} W "
+        f"({100 * (1 - r.heat[k] / alone):.1f} % less: its neighbours hide part of the sky and send radiation back)"
+    )
     pair = r.pairwise()
     for j, n in enumerate(names):
         if j != k:
@@ -95,9 +97,11 @@ def main(argv=None) -> int:
 
     q2 = np.array([{"radiator": 350.0, "body_wall": 0.0, "array_back": 150.0}[n] for n in names])
     r2 = exchange.solve(ff, eps, None, q2, ambient=3.0)
-    print(f"\nwith 350 W/m2 dissipated in the radiator its temperature is {r2.temperature[k]:.2f} K "
-          f"(alone under the sky: {(350.0 / (eps[k] * SIGMA) + 3.0**4) ** 0.25:.2f} K); all to space: "
-          f"{r2.ambient_heat:.1f} W = sum of the given heat loads {np.sum(q2 * ff.areas):.1f} W")
+    print(
+        f"\nwith 350 W/m2 dissipated in the radiator its temperature is {r2.temperature[k]:.2f} K "
+        f"(alone under the sky: {(350.0 / (eps[k] * SIGMA) + 3.0**4) ** 0.25:.2f} K); all to space: "
+        f"{r2.ambient_heat:.1f} W = sum of the given heat loads {np.sum(q2 * ff.areas):.1f} W"
+    )
     return 0
 
 

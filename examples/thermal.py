@@ -93,15 +93,23 @@ End of data
 
 # Surface temperatures, degrees Celsius (a winter day: cold window, hot radiator).
 TEMPERATURE_C = {
-    "floor": 20.0, "ceiling": 21.0, "south_wall": 17.0, "window": 6.0, "radiator": 55.0,
-    "north_wall": 19.5, "east_wall": 19.0, "west_wall": 19.0, "cabinet": 20.0,
+    "floor": 20.0,
+    "ceiling": 21.0,
+    "south_wall": 17.0,
+    "window": 6.0,
+    "radiator": 55.0,
+    "north_wall": 19.5,
+    "east_wall": 19.0,
+    "west_wall": 19.0,
+    "cabinet": 20.0,
 }
 
 
 def main(argv=None) -> int:
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    p.add_argument("--outdir", help="directory for office.vs3, office.idf and office.txt "
-                   "(default: a new temporary directory)")
+    p.add_argument(
+        "--outdir", help="directory for office.vs3, office.idf and office.txt (default: a new temporary directory)"
+    )
     args = p.parse_args(argv)
     outdir = args.outdir or tempfile.mkdtemp(prefix="nusselt-thermal-")
     os.makedirs(outdir, exist_ok=True)
@@ -123,8 +131,10 @@ def main(argv=None) -> int:
     surf = patches.by_surface()  # F_ST = sum_{i in S, j in T} A_i F_ij / A_S
     print(surf.summary())
     print(f"reciprocity: max |A_i F_ij - A_j F_ji| / max(A_i F_ij, A_j F_ji) = {surf.reciprocity_error:.1e}")
-    print(f"closure:     max |sum_j F_ij - 1| = {surf.closure_error:.1e} "
-          f"(obstructed pairs are computed to obstructed_tol = {patches.info['options']['obstructed_tol']:g})")
+    print(
+        f"closure:     max |sum_j F_ij - 1| = {surf.closure_error:.1e} "
+        f"(obstructed pairs are computed to obstructed_tol = {patches.info['options']['obstructed_tol']:g})"
+    )
     assert surf.reciprocity_error < 1e-12 and surf.closure_error < 1e-4
 
     # 3. grey-body radiant exchange between the named surfaces
@@ -135,12 +145,16 @@ def main(argv=None) -> int:
     print("\nnet radiation (positive: the surface loses heat by radiation)")
     print(f"{'surface':12s} {'area m2':>8s} {'eps':>5s} {'T C':>6s} {'J W/m2':>8s} {'q W/m2':>8s} {'Q W':>8s}")
     for k, name in enumerate(surf.names):
-        print(f"{name:12s} {surf.areas[k]:8.2f} {eps[k]:5.2f} {t_k[k] - 273.15:6.1f} {j[k]:8.1f} {q[k]:8.2f} "
-              f"{big_q[k]:8.1f}")
+        print(
+            f"{name:12s} {surf.areas[k]:8.2f} {eps[k]:5.2f} {t_k[k] - 273.15:6.1f} {j[k]:8.1f} {q[k]:8.2f} "
+            f"{big_q[k]:8.1f}"
+        )
     print(f"sum of Q = {big_q.sum():.2e} W (energy balance: zero in a closed enclosure, up to the closure error)")
     mrt = (np.sum(surf.areas * t_k**4) / surf.areas.sum()) ** 0.25 - 273.15
-    print(f"the radiator gives off {big_q[surf.names.index('radiator')]:.0f} W by radiation, the window takes in "
-          f"{-big_q[surf.names.index('window')]:.0f} W; area-weighted radiant temperature {mrt:.1f} C")
+    print(
+        f"the radiator gives off {big_q[surf.names.index('radiator')]:.0f} W by radiation, the window takes in "
+        f"{-big_q[surf.names.index('window')]:.0f} W; area-weighted radiant temperature {mrt:.1f} C"
+    )
 
     # 4. view factors for EnergyPlus and for View3D users (both per named surface)
     idf = os.path.join(outdir, "office.idf")

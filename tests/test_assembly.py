@@ -4,11 +4,10 @@ float32 and compressed output, and refusal of runs that cannot fit (issue 21 ite
 import numpy as np
 import pytest
 import scipy.sparse as sp
+from conftest import cube_faces
 
 import nusselt
 from nusselt import assembly, budget, trust
-
-from conftest import cube_faces
 
 
 def _cube(n=4):

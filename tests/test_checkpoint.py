@@ -11,9 +11,10 @@ import subprocess
 import sys
 
 import numpy as np
-import nusselt
 import pytest
 from conftest import cube_faces
+
+import nusselt
 from nusselt import checkpoint as ck
 from nusselt.cli import main
 from nusselt.io import atomic
@@ -34,7 +35,7 @@ def _interrupted(tmp_path, scene=None, **kw):
     path = tmp_path / "ck"
     _run(scene, path, **kw)  # a finished run's checkpoint holds every block
     blocks = sorted(p for p in path.iterdir() if p.name.startswith("block_"))
-    for p in blocks[len(blocks) // 2:]:
+    for p in blocks[len(blocks) // 2 :]:
         p.unlink()
     return scene, path, blocks[: len(blocks) // 2]
 
@@ -122,12 +123,15 @@ def test_a_block_of_another_scene_is_refused_even_with_a_manifest(tmp_path):
         _run(b, pb, resume=True)
 
 
-@pytest.mark.parametrize("change,expect", [
-    ({"method": "analytic"}, "the method ('auto' then, 'analytic' now)"),
-    ({"tol": 1e-6}, "the options (tol="),
-    ({"block_size": 300}, "the block size (200 then, 300 now)"),
-    ({"scene": "bigger"}, "the scene geometry"),
-])
+@pytest.mark.parametrize(
+    "change,expect",
+    [
+        ({"method": "analytic"}, "the method ('auto' then, 'analytic' now)"),
+        ({"tol": 1e-6}, "the options (tol="),
+        ({"block_size": 300}, "the block size (200 then, 300 now)"),
+        ({"scene": "bigger"}, "the scene geometry"),
+    ],
+)
 def test_a_refused_resume_says_what_changed(tmp_path, change, expect):
     scene, path, _ = _interrupted(tmp_path)
     kw = {"checkpoint": path, "resume": True, "block_size": change.pop("block_size", 200)}
@@ -162,7 +166,9 @@ def test_blocks_and_manifest_are_fsynced_before_rename(tmp_path, monkeypatch):
     events = []
     real_fsync, real_replace = os.fsync, os.replace
     monkeypatch.setattr(os, "fsync", lambda fd: (events.append("fsync"), real_fsync(fd))[1])
-    monkeypatch.setattr(os, "replace", lambda a, b: (events.append(("replace", os.path.basename(b))), real_replace(a, b))[1])
+    monkeypatch.setattr(
+        os, "replace", lambda a, b: (events.append(("replace", os.path.basename(b))), real_replace(a, b))[1]
+    )
     _run(_scene(2), tmp_path / "ck")
     renames = [i for i, e in enumerate(events) if isinstance(e, tuple)]
     assert renames and any(events[i][1] == "manifest.json" for i in renames)
@@ -171,6 +177,7 @@ def test_blocks_and_manifest_are_fsynced_before_rename(tmp_path, monkeypatch):
 
 
 # --- atomic writes (issue 23 item 12) --------------------------------------------------------
+
 
 @pytest.mark.parametrize("umask", [0o022, 0o002, 0o077])
 def test_outputs_honour_the_umask(tmp_path, umask):
@@ -194,9 +201,11 @@ def test_an_exception_while_writing_leaves_neither_file_nor_temporary(tmp_path):
 
 def test_a_temporary_left_by_a_killed_write_is_recognisable_and_removed_next_time(tmp_path):
     target = tmp_path / "big.npz"
-    code = ("import sys, time; from nusselt.io.atomic import atomic_open\n"
-            "with atomic_open(sys.argv[1], 'wb') as fh:\n"
-            "    fh.write(b'x' * 1000); fh.flush(); print('writing', flush=True); time.sleep(60)\n")
+    code = (
+        "import sys, time; from nusselt.io.atomic import atomic_open\n"
+        "with atomic_open(sys.argv[1], 'wb') as fh:\n"
+        "    fh.write(b'x' * 1000); fh.flush(); print('writing', flush=True); time.sleep(60)\n"
+    )
     p = subprocess.Popen([sys.executable, "-c", code, str(target)], stdout=subprocess.PIPE, text=True)
     try:
         assert p.stdout.readline().strip() == "writing"
@@ -240,8 +249,10 @@ def test_a_checkpoint_in_use_by_another_run_is_refused(tmp_path):
     run = ck.describe_run(scene, "auto", {}, "pairs", 200, 3)
     first = ck.Checkpoint(tmp_path / "ck", run, resume=False)
     try:
-        code = ("import fcntl, os, sys\nfd = os.open(sys.argv[1], os.O_RDWR)\n"
-                "try:\n    fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)\nexcept BlockingIOError:\n    sys.exit(3)\n")
+        code = (
+            "import fcntl, os, sys\nfd = os.open(sys.argv[1], os.O_RDWR)\n"
+            "try:\n    fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)\nexcept BlockingIOError:\n    sys.exit(3)\n"
+        )
         p = subprocess.run([sys.executable, "-c", code, str(tmp_path / "ck" / "lock")], check=False)
         assert p.returncode == 3  # another process cannot take it
         with pytest.raises(ValueError, match="in use by another running nusselt"):

@@ -42,9 +42,12 @@ def read_png(path):
 
 # --- rendering ------------------------------------------------------------------------------
 
+
 def square(cx, cy, z, half):
     """A square facing -z (towards a camera at the origin looking +z), CCW seen from it."""
-    return np.array([[cx - half, cy - half, z], [cx - half, cy + half, z], [cx + half, cy + half, z], [cx + half, cy - half, z]])
+    return np.array(
+        [[cx - half, cy - half, z], [cx - half, cy + half, z], [cx + half, cy + half, z], [cx + half, cy - half, z]]
+    )
 
 
 def test_render_colours_depth_and_png_roundtrip(tmp_path):
@@ -76,6 +79,7 @@ def test_value_range_clamps_decades_and_ignores_nan():
 
 
 # --- the demo --------------------------------------------------------------------------------
+
 
 def test_demo_prints_the_box_and_writes_a_png(tmp_path, capsys):
     png = tmp_path / "box.png"
@@ -140,20 +144,38 @@ def test_bad_arguments_give_one_line_errors(tmp_path, capsys, args, what):
 def test_error_through_a_real_process_has_no_traceback(tmp_path):
     path = tmp_path / "bad.obj"
     path.write_text(BAD_FILES["bad.obj"])
-    p = subprocess.run([sys.executable, "-m", "nusselt.cli", "matrix", str(path), "-o", str(tmp_path / "o.npz")],
-                       capture_output=True, text=True)
+    p = subprocess.run(
+        [sys.executable, "-m", "nusselt.cli", "matrix", str(path), "-o", str(tmp_path / "o.npz")],
+        capture_output=True,
+        text=True,
+    )
     assert p.returncode == 2
     assert p.stderr.strip().count("\n") == 0 and "bad.obj, line 3" in p.stderr and "Traceback" not in p.stderr
 
 
 # --- the main job's options --------------------------------------------------------------
 
+
 def test_matrix_npz_stores_trust_measures_and_threshold(tmp_path, capsys):
     out = tmp_path / "f.npz"
-    assert main(["matrix", nusselt.cli.bundled("cornell_empty.obj"), "-o", str(out), "-q", "--refine", "200",
-                 "--threshold", "0.02"]) == 0
+    assert (
+        main(
+            [
+                "matrix",
+                nusselt.cli.bundled("cornell_empty.obj"),
+                "-o",
+                str(out),
+                "-q",
+                "--refine",
+                "200",
+                "--threshold",
+                "0.02",
+            ]
+        )
+        == 0
+    )
     r = nio.load_npz(out)
-    f, a = r["matrix"], r["areas"]
+    f = r["matrix"]
     info = r["info"]
     np.testing.assert_allclose(r["row_sums"], f.sum(axis=1), rtol=0, atol=1e-15)
     assert info["closure_error"] == pytest.approx(np.abs(r["row_sums"] - 1).max())
@@ -173,8 +195,24 @@ def test_correct_option_fixes_sampled_rows_and_refuses_open_scenes(tmp_path, cap
     out = tmp_path / "f.npz"
     cube = tmp_path / "cube.obj"
     write_cube_obj(cube, 3)
-    assert main(["matrix", str(cube), "-o", str(out), "-q", "--method", "raytrace", "--option", "rays=256",
-                 "--correct", "closure"]) == 0
+    assert (
+        main(
+            [
+                "matrix",
+                str(cube),
+                "-o",
+                str(out),
+                "-q",
+                "--method",
+                "raytrace",
+                "--option",
+                "rays=256",
+                "--correct",
+                "closure",
+            ]
+        )
+        == 0
+    )
     r = nio.load_npz(out)
     assert r["info"]["corrected"] == "closure"
     assert r["info"]["closure_error"] < 1e-9 and r["info"]["reciprocity_error"] < 1e-9
@@ -182,8 +220,21 @@ def test_correct_option_fixes_sampled_rows_and_refuses_open_scenes(tmp_path, cap
     # the correction moves the estimate towards the exact matrix
     raw = nusselt.form_factors(nusselt.Scene.from_file(cube), method="raytrace", rays=256).matrix.toarray()
     assert np.abs(r["matrix"].toarray() - exact).sum() < np.abs(raw - exact).sum()
-    rc = main(["matrix", nusselt.cli.bundled("cornell_empty.obj"), "-o", str(out), "-q", "--method", "raytrace",
-               "--option", "rays=64", "--correct", "closure"])
+    rc = main(
+        [
+            "matrix",
+            nusselt.cli.bundled("cornell_empty.obj"),
+            "-o",
+            str(out),
+            "-q",
+            "--method",
+            "raytrace",
+            "--option",
+            "rays=64",
+            "--correct",
+            "closure",
+        ]
+    )
     assert rc == 2 and "closed enclosure" in capsys.readouterr().err
 
 
@@ -201,11 +252,22 @@ def write_cube_obj(path, n):
 
 # --- kill -9 halfway and resume ------------------------------------------------------------
 
+
 def test_sigkill_halfway_then_resume_gives_the_identical_matrix(tmp_path):
     scene = tmp_path / "cube.obj"
     write_cube_obj(scene, 18)  # 1944 patches, 1.9 M pairs
-    cmd = [sys.executable, "-m", "nusselt.cli", "matrix", str(scene), "-q", "--block-size", "40000",
-           "--option", "tol=1e-6"]
+    cmd = [
+        sys.executable,
+        "-m",
+        "nusselt.cli",
+        "matrix",
+        str(scene),
+        "-q",
+        "--block-size",
+        "40000",
+        "--option",
+        "tol=1e-6",
+    ]
     ref = tmp_path / "ref.npz"
     subprocess.run(cmd + ["-o", str(ref)], check=True, capture_output=True)
 
@@ -218,8 +280,13 @@ def test_sigkill_halfway_then_resume_gives_the_identical_matrix(tmp_path):
             manifest = partial / "manifest.json"
             if manifest.exists():
                 total = __import__("json").loads(manifest.read_text())["blocks"]
-                done = len([f for f in os.listdir(partial) if f.startswith("block_") and f.endswith(".npz")
-                            and ".tmp" not in f])
+                done = len(
+                    [
+                        f
+                        for f in os.listdir(partial)
+                        if f.startswith("block_") and f.endswith(".npz") and ".tmp" not in f
+                    ]
+                )
                 if done >= total // 2:
                     break
             time.sleep(0.05)

@@ -74,8 +74,22 @@ def test_repair_and_two_sided_options(tmp_path, capsys):
     assert r["matrix"].shape == (6, 6) and np.allclose(r["matrix"].sum(axis=1), 1.0, atol=1e-12)
     plate = np.array([[0.1, 0.1, 0.5], [0.9, 0.1, 0.5], [0.9, 0.9, 0.5], [0.1, 0.9, 0.5]])
     path = write_obj(tmp_path / "fin.obj", polys + [plate], names + ["plate"])
-    assert main(["matrix", path, "-o", str(tmp_path / "f.npz"), "-q", "--two-sided", "plate",
-                 "--option", "obstructed_tol=1e-8"]) == 0
+    assert (
+        main(
+            [
+                "matrix",
+                path,
+                "-o",
+                str(tmp_path / "f.npz"),
+                "-q",
+                "--two-sided",
+                "plate",
+                "--option",
+                "obstructed_tol=1e-8",
+            ]
+        )
+        == 0
+    )
     r = nusselt.load_npz(tmp_path / "f.npz")
     assert r["areas"][-1] == pytest.approx(2 * 0.64, rel=1e-14)
     assert np.allclose(r["matrix"].sum(axis=1), 1.0, atol=1e-7)

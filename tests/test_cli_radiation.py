@@ -1,9 +1,9 @@
 """`nusselt exchange` and `nusselt render` on the command line."""
 
 import numpy as np
+from test_cli import read_png
 
 from nusselt.cli import main
-from test_cli import read_png
 
 ROOM = "tests/data/cube_room.obj"
 SIGMA = 5.670374419e-8
@@ -11,8 +11,24 @@ SIGMA = 5.670374419e-8
 
 def test_exchange_mixed_conditions_and_csv(tmp_path, capsys):
     out = tmp_path / "q.csv"
-    rc = main(["exchange", ROOM, "--emissivity", "0.9", "--emissivity", "floor=0.3", "--temperature", "293.15",
-               "--temperature", "floor=300", "--flux", "ceiling=0", "-o", str(out)])
+    rc = main(
+        [
+            "exchange",
+            ROOM,
+            "--emissivity",
+            "0.9",
+            "--emissivity",
+            "floor=0.3",
+            "--temperature",
+            "293.15",
+            "--temperature",
+            "floor=300",
+            "--flux",
+            "ceiling=0",
+            "-o",
+            str(out),
+        ]
+    )
     assert rc == 0
     text = capsys.readouterr().out
     assert "floor" in text and "sum of Q" in text
@@ -26,8 +42,12 @@ def test_exchange_mixed_conditions_and_csv(tmp_path, capsys):
 
 def test_exchange_values_csv(tmp_path, capsys):
     v = tmp_path / "v.csv"
-    v.write_text("surface,emissivity,temperature,flux\n" + "".join(
-        f"{n},0.8,{300 if n == 'floor' else 280},\n" for n in ["floor", "ceiling", "south", "east", "north", "west"]))
+    v.write_text(
+        "surface,emissivity,temperature,flux\n"
+        + "".join(
+            f"{n},0.8,{300 if n == 'floor' else 280},\n" for n in ["floor", "ceiling", "south", "east", "north", "west"]
+        )
+    )
     assert main(["exchange", ROOM, "--values", str(v)]) == 0
     v.write_text("surface,emissivity,temperature,flux\nfloor,0.8,abc,\n")
     assert main(["exchange", ROOM, "--values", str(v)]) == 2
@@ -45,8 +65,26 @@ def test_exchange_bad_input_exits_2(capsys):
 
 def test_render_writes_an_rgb_picture(tmp_path, capsys):
     png = tmp_path / "r.png"
-    rc = main(["render", ROOM, "-o", str(png), "--refine", "0.34", "--resolution", "32", "--size", "48",
-               "--emission", "ceiling=5,5,5", "--reflectance", "west=0.7,0.1,0.1", "--eye", "0.5,0.5,-0.6"])
+    rc = main(
+        [
+            "render",
+            ROOM,
+            "-o",
+            str(png),
+            "--refine",
+            "0.34",
+            "--resolution",
+            "32",
+            "--size",
+            "48",
+            "--emission",
+            "ceiling=5,5,5",
+            "--reflectance",
+            "west=0.7,0.1,0.1",
+            "--eye",
+            "0.5,0.5,-0.6",
+        ]
+    )
     assert rc == 0
     img = read_png(png)
     assert img.shape == (48, 48, 3)

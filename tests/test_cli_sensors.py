@@ -4,11 +4,10 @@ from __future__ import annotations
 
 import csv
 
-import numpy as np
 import pytest
+from test_sensors import box, corner
 
 from nusselt.cli import main
-from test_sensors import box, corner
 
 
 def write_obj(path, polys, names):
@@ -29,7 +28,8 @@ def test_sensors_command_writes_view_factors_and_temperatures(tmp_path, capsys):
     out = tmp_path / "out.csv"
     args = [str(scene), str(pts), "-o", str(out)]
     temps = ["--temperature", "floor=290", "--temperature", "ceiling=310"] + sum(
-        (["--temperature", f"{w}=300"] for w in ["south", "north", "west", "east"]), [])
+        (["--temperature", f"{w}=300"] for w in ["south", "north", "west", "east"]), []
+    )
     assert main(["sensors", *args, *temps]) == 0
     rows = list(csv.DictReader(out.open()))
     assert rows[0]["nz"] == "1.0"
@@ -39,7 +39,9 @@ def test_sensors_command_writes_view_factors_and_temperatures(tmp_path, capsys):
     f_c = float(rows[0]["F_ceiling"])
     assert float(rows[0]["t_plane"]) == pytest.approx((f_c * 310.0**4 + (1 - f_c) * 300.0**4) ** 0.25, rel=1e-12)
     # at the centre a sphere sees each face 1/6
-    assert float(rows[0]["t_mrt_sphere"]) == pytest.approx(((290.0**4 + 310.0**4 + 4 * 300.0**4) / 6) ** 0.25, rel=1e-12)
+    assert float(rows[0]["t_mrt_sphere"]) == pytest.approx(
+        ((290.0**4 + 310.0**4 + 4 * 300.0**4) / 6) ** 0.25, rel=1e-12
+    )
     # a surface without a temperature, a bad line in the points file
     assert main(["sensors", *args, "--temperature", "floor=290"]) == 2
     assert "has no temperature" in capsys.readouterr().err

@@ -5,20 +5,21 @@ import logging
 import os
 
 import numpy as np
+import pytest
+from conftest import cube_faces
+
 import nusselt
 import nusselt.blocks
-import pytest
 from nusselt import checkpoint as ck
 
 distributed = pytest.importorskip("distributed")
 
-from conftest import cube_faces
-
 
 @pytest.fixture(scope="module")
 def client():
-    c = distributed.Client(n_workers=2, processes=True, threads_per_worker=1, dashboard_address=None,
-                           silence_logs=logging.ERROR)
+    c = distributed.Client(
+        n_workers=2, processes=True, threads_per_worker=1, dashboard_address=None, silence_logs=logging.ERROR
+    )
     yield c
     c.close()
 
@@ -39,8 +40,7 @@ def _same(a, b):
 def test_cluster_gives_the_identical_matrix_and_ships_the_scene_once(client, tmp_path, method, opts):
     scene = _scene()
     local = nusselt.form_factors(scene, method=method, block_size=400, **opts)
-    far = nusselt.form_factors(scene, method=method, block_size=400, client=client,
-                               checkpoint=tmp_path / "ck", **opts)
+    far = nusselt.form_factors(scene, method=method, block_size=400, client=client, checkpoint=tmp_path / "ck", **opts)
     _same(local, far)
     if local.std_err is not None:
         assert np.array_equal(local.std_err.data, far.std_err.data)

@@ -95,7 +95,7 @@ def test_result_assembly_rejects_malformed_blocks():
     assert sd is None
     dense = np.zeros((3, 3))
     for r in range(3):
-        dense[r, idx[indptr[r]:indptr[r + 1]]] = f[indptr[r]:indptr[r + 1]]
+        dense[r, idx[indptr[r] : indptr[r + 1]]] = f[indptr[r] : indptr[r + 1]]
     assert np.array_equal(dense, [[0, 0.2, 0.3], [0.2, 0, 0], [0.3, 0, 0]])
     bad = [
         (i64(0), i64(0, 3), i32(1, 2), np.array([0.2, 0.3]), None),  # indptr beyond the entries

@@ -3,10 +3,10 @@
 import numpy as np
 import pytest
 import scipy.sparse as sp
+from conftest import cube_faces, rect
 
 import nusselt
 from nusselt import exchange
-from conftest import cube_faces, rect
 
 SIGMA = 5.670374419e-8
 
@@ -91,8 +91,11 @@ def test_script_f_bad_input():
 
 
 def plates(side, gap):
-    return nusselt.form_factors(nusselt.Scene.from_polygons(
-        [rect(0, side, 0, side, 0.0), rect(0, side, 0, side, gap, flip=True)], surface=["hot", "cold"]))
+    return nusselt.form_factors(
+        nusselt.Scene.from_polygons(
+            [rect(0, side, 0, side, 0.0), rect(0, side, 0, side, gap, flip=True)], surface=["hot", "cold"]
+        )
+    )
 
 
 def test_solve_finite_plates_against_dense_solve_and_infinite_limit():
@@ -182,8 +185,13 @@ def test_band_mode_grey_limit_and_two_band_closed_form():
     e = np.array([[0.2, 0.9], [0.6, 0.1]])
     r = exchange.solve(f, e, t, areas=areas, bands=edges)
     fr = exchange.band_fractions(edges, t)
-    ref = sum(areas[0] * SIGMA * (fr[0, b] * t[0] ** 4 - fr[1, b] * t[1] ** 4)
-              / (1 / e[0, b] + areas[0] / areas[1] * (1 / e[1, b] - 1)) for b in range(2))
+    ref = sum(
+        areas[0]
+        * SIGMA
+        * (fr[0, b] * t[0] ** 4 - fr[1, b] * t[1] ** 4)
+        / (1 / e[0, b] + areas[0] / areas[1] * (1 / e[1, b] - 1))
+        for b in range(2)
+    )
     assert r.heat[0] == pytest.approx(ref, rel=1e-12)
     assert abs(r.heat.sum()) <= 1e-12 * abs(r.heat[0])
     np.testing.assert_allclose(r.pairwise().sum(axis=1), r.heat, rtol=1e-12)

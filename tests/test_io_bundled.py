@@ -22,10 +22,17 @@ except ImportError:
 
 BUNDLED = pathlib.Path(nio.__file__).resolve().parents[1] / "data"
 WALLS = ["floor", "ceiling", "back", "green", "red", "light"]
-# Published areas (mm^2); the bundled ceiling has a hole for the light. The red wall's 306902.0 is the vector area of its non-planar quad;
+# Published areas (mm^2); the bundled ceiling has a hole for the light.
+# The red wall's 306902.0 is the vector area of its non-planar quad;
 # split into two planar triangles its true area is 306904.51 (8e-6 larger).
-AREAS = {"floor": 308231.0, "ceiling": 310915.2 - 13650.0, "back": 303376.6, "green": 306889.0, "red": 306902.0,
-         "light": 13650.0}
+AREAS = {
+    "floor": 308231.0,
+    "ceiling": 310915.2 - 13650.0,
+    "back": 303376.6,
+    "green": 306889.0,
+    "red": 306902.0,
+    "light": 13650.0,
+}
 CENTRE = np.array([278.0, 274.4, 279.6])
 
 
@@ -54,7 +61,9 @@ def test_cornell_walls(name):
     assert d.names[:6] == WALLS
     for w in WALLS:
         a = sum(np.linalg.norm(newell(p)) for p in polys[w])
-        assert a == (pytest.approx(AREAS[w], rel=1e-5) if w == "red" else pytest.approx(AREAS[w], abs=0.05)), w  # published to 0.1 mm^2
+        assert a == (pytest.approx(AREAS[w], rel=1e-5) if w == "red" else pytest.approx(AREAS[w], abs=0.05)), (
+            w
+        )  # published to 0.1 mm^2
         for p in polys[w]:
             assert planar_deviation(p) < 1e-12, w  # the core's planarity check will accept them
             assert newell(p) @ (CENTRE - p.mean(axis=0)) > 0, w  # fronts face into the box

@@ -29,20 +29,43 @@ def cube_epjson(path, rel_north=0.0, origin=(0.0, 0.0, 0.0), clockwise=False):
     }
     win = [(0.25, 0, 0.75), (0.25, 0, 0.25), (0.75, 0, 0.25), (0.75, 0, 0.75)]
     flip = (lambda v: v[::-1]) if clockwise else (lambda v: v)
-    vx = lambda vs: [{"vertex_x_coordinate": x, "vertex_y_coordinate": y, "vertex_z_coordinate": z} for x, y, z in flip(vs)]
+    vx = lambda vs: [
+        {"vertex_x_coordinate": x, "vertex_y_coordinate": y, "vertex_z_coordinate": z} for x, y, z in flip(vs)
+    ]
     doc = {
-        "GlobalGeometryRules": {"GlobalGeometryRules 1": {
-            "starting_vertex_position": "UpperLeftCorner",
-            "vertex_entry_direction": "Clockwise" if clockwise else "Counterclockwise",
-            "coordinate_system": "Relative"}},
-        "Zone": {"Cube": {"direction_of_relative_north": rel_north, "x_origin": origin[0],
-                          "y_origin": origin[1], "z_origin": origin[2]}},
-        "BuildingSurface:Detailed": {n: {"surface_type": "Wall", "construction_name": "C", "zone_name": "Cube",
-                                         "outside_boundary_condition": "Outdoors", "vertices": vx(v)}
-                                     for n, v in faces.items()},
-        "FenestrationSurface:Detailed": {"Win": dict(
-            {"surface_type": "Window", "construction_name": "G", "building_surface_name": "South"},
-            **{f"vertex_{k + 1}_{c}_coordinate": p[i] for k, p in enumerate(flip(win)) for i, c in enumerate("xyz")})},
+        "GlobalGeometryRules": {
+            "GlobalGeometryRules 1": {
+                "starting_vertex_position": "UpperLeftCorner",
+                "vertex_entry_direction": "Clockwise" if clockwise else "Counterclockwise",
+                "coordinate_system": "Relative",
+            }
+        },
+        "Zone": {
+            "Cube": {
+                "direction_of_relative_north": rel_north,
+                "x_origin": origin[0],
+                "y_origin": origin[1],
+                "z_origin": origin[2],
+            }
+        },
+        "BuildingSurface:Detailed": {
+            n: {
+                "surface_type": "Wall",
+                "construction_name": "C",
+                "zone_name": "Cube",
+                "outside_boundary_condition": "Outdoors",
+                "vertices": vx(v),
+            }
+            for n, v in faces.items()
+        },
+        "FenestrationSurface:Detailed": {
+            "Win": dict(
+                {"surface_type": "Window", "construction_name": "G", "building_surface_name": "South"},
+                **{
+                    f"vertex_{k + 1}_{c}_coordinate": p[i] for k, p in enumerate(flip(win)) for i, c in enumerate("xyz")
+                },
+            )
+        },
         "InternalMass": {"Furniture": {"construction_name": "C", "zone_or_zonelist_name": "Cube", "surface_area": 5}},
     }
     Path(path).write_text(json.dumps(doc))
@@ -63,7 +86,7 @@ def test_cube_zone_exact(tmp_path, kw):
     np.testing.assert_allclose(r.row_sums, 1.0, atol=1e-12)
     assert r.reciprocity_error < 1e-12
     # additivity: window + rest of the wall sees the north wall as the whole south face does
-    g = (a["South"] * f[i("South"), i("North")] + a["Win"] * f[i("Win"), i("North")])
+    g = a["South"] * f[i("South"), i("North")] + a["Win"] * f[i("Win"), i("North")]
     assert g == pytest.approx(F_OPP, abs=1e-12)
     assert f[i("Floor"), i("Ceiling")] == pytest.approx(F_OPP, abs=1e-12)
     assert f[i("Floor"), i("East")] == pytest.approx(F_ADJ, abs=1e-12)
@@ -117,8 +140,9 @@ def test_cli_writes_all_pairs_per_zone(tmp_path, ext):
         schema = json.loads((DATA / "energyplus_userviewfactors_schema.json").read_text())
         jsonschema = pytest.importorskip("jsonschema")
         jsonschema.validate(json.loads(out.read_text()), schema)
-    rc = nusselt.cli.main(["matrix", str(DATA / "4ZoneWithShading_Simple_1_geometry.idf"), "-o", str(out), "-q",
-                           "--zone-name", "zone 3"])
+    rc = nusselt.cli.main(
+        ["matrix", str(DATA / "4ZoneWithShading_Simple_1_geometry.idf"), "-o", str(out), "-q", "--zone-name", "zone 3"]
+    )
     assert rc == 0 and list(read_user_view_factors(out)) == ["ZONE 3"]
 
 
@@ -127,8 +151,7 @@ def test_bad_inputs(tmp_path):
     p.write_text("Zone, Z;\nWall:Exterior, W, C, Nowhere, 180, 90, 0, 0, 0, 2, 1;\n")
     with pytest.raises(ValueError, match=r"bad.idf, line 2: Wall:Exterior 'W': zone 'Nowhere' is not defined"):
         read_energyplus(p)
-    p.write_text("Zone, Z;\nWall:Exterior, W, C, Z, 180, 90, 0, 0, 0, 2, 1;\n"
-                 "Window, G, C, W, , 1, 1.5, 0.2, 1, 0.5;\n")
+    p.write_text("Zone, Z;\nWall:Exterior, W, C, Z, 180, 90, 0, 0, 0, 2, 1;\nWindow, G, C, W, , 1, 1.5, 0.2, 1, 0.5;\n")
     with pytest.raises(ValueError, match=r"line 3: Window 'G' \(on Wall:Exterior 'W'\) is not inside its base"):
         read_energyplus(p)
 
@@ -139,8 +162,12 @@ def test_emit1_script_f_two_surface_enclosure(tmp_path):
     Q = A_A sigma dT4 / ((1 - eA)/eA + 1/F_AB + A_A (1 - eB)/(A_B eB)), F_AB = 1,
     so script-F_AB = 1 / ((1 - eA)/eA + 1 + (1 - eB)/(5 eB))."""
     eA, eB = 0.6, 0.8
-    v = "\n".join(f"V {k + 1} {x} {y} {z}" for k, (x, y, z) in enumerate(
-        [(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0), (0, 0, 1), (1, 0, 1), (1, 1, 1), (0, 1, 1)]))
+    v = "\n".join(
+        f"V {k + 1} {x} {y} {z}"
+        for k, (x, y, z) in enumerate(
+            [(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0), (0, 0, 1), (1, 0, 1), (1, 1, 1), (0, 1, 1)]
+        )
+    )
     text = f"""T cube
 C encl=1 emit=1
 F 3
@@ -167,9 +194,11 @@ End
 
 def test_view3d_controls_warn_and_null_orientation(tmp_path):
     p = tmp_path / "c.vs3"
-    p.write_text("C maxU=8 bogus=3\nF 3\nV 1 0 0 0\nV 2 1 0 0\nV 3 1 1 0\nV 4 0 1 0\n"
-                 "V 5 .2 .2 0\nV 6 .4 .2 0\nV 7 .4 .4 0\nV 8 .2 .4 0\n"
-                 "S 1 1 2 3 4 0 0 0.9 plate\nN 2 5 6 7 8 1 0 0.9 hole\nEnd\n")
+    p.write_text(
+        "C maxU=8 bogus=3\nF 3\nV 1 0 0 0\nV 2 1 0 0\nV 3 1 1 0\nV 4 0 1 0\n"
+        "V 5 .2 .2 0\nV 6 .4 .2 0\nV 7 .4 .4 0\nV 8 .2 .4 0\n"
+        "S 1 1 2 3 4 0 0 0.9 plate\nN 2 5 6 7 8 1 0 0.9 hole\nEnd\n"
+    )
     with pytest.warns(UserWarning) as w:
         with pytest.raises(ValueError, match="null surface 2 must face the opposite way to its base surface 1"):
             nusselt.io.read_view3d(p)

@@ -64,8 +64,12 @@ def test_abaqus_element_sets_smallest_set_wins():
 
 @pytest.mark.parametrize("ext", ["vtu", "vtk"])
 def test_vtk_polygons_and_material_ids(tmp_path, ext):
-    cells = [("triangle", np.array([[1, 5, 6]])), ("quad", np.array([[0, 1, 2, 3]])),
-             ("polygon", np.array([[0, 1, 2, 4, 3]])), ("line", np.array([[0, 1]]))]
+    cells = [
+        ("triangle", np.array([[1, 5, 6]])),
+        ("quad", np.array([[0, 1, 2, 3]])),
+        ("polygon", np.array([[0, 1, 2, 4, 3]])),
+        ("line", np.array([[0, 1]])),
+    ]
     mat = [np.array([7]), np.array([3]), np.array([7]), np.array([1])]
     p = tmp_path / f"m.{ext}"
     meshio.write(p, meshio.Mesh(PTS, cells, cell_data={"MaterialIds": mat}))
@@ -78,8 +82,12 @@ def test_vtk_polygons_and_material_ids(tmp_path, ext):
 
 def test_cell_tags_and_ply(tmp_path):
     p = tmp_path / "t.vtu"
-    meshio.write(p, meshio.Mesh(PTS, [("quad", np.array([[0, 1, 2, 3], [1, 5, 6, 2]]))],
-                                cell_data={"cell_tags": [np.array([2, 5])]}))
+    meshio.write(
+        p,
+        meshio.Mesh(
+            PTS, [("quad", np.array([[0, 1, 2, 3], [1, 5, 6, 2]]))], cell_data={"cell_tags": [np.array([2, 5])]}
+        ),
+    )
     d = nio.read_scene(p)
     assert d.names == ["tag2", "tag5"]
     q = tmp_path / "q.ply"
@@ -101,16 +109,20 @@ def test_volume_only_mesh_is_refused(tmp_path):
 def test_malformed_meshes_name_the_file(tmp_path):
     # out-of-range point index in a legacy VTK file: the cell is named
     p = tmp_path / "bad.vtk"
-    p.write_text("# vtk DataFile Version 4.2\nbad\nASCII\nDATASET UNSTRUCTURED_GRID\n"
-                 "POINTS 3 double\n0 0 0\n1 0 0\n0 1 0\n"
-                 "CELLS 2 8\n3 0 1 2\n3 0 1 7\nCELL_TYPES 2\n5\n5\n")
+    p.write_text(
+        "# vtk DataFile Version 4.2\nbad\nASCII\nDATASET UNSTRUCTURED_GRID\n"
+        "POINTS 3 double\n0 0 0\n1 0 0\n0 1 0\n"
+        "CELLS 2 8\n3 0 1 2\n3 0 1 7\nCELL_TYPES 2\n5\n5\n"
+    )
     with pytest.raises(ValueError) as e:
         nio.read_scene(p)
     assert str(e.value).startswith(f"{p}, cell 1: refers to point 7, but only 3 points are defined")
     # NaN coordinate
     q = tmp_path / "nan.vtk"
-    q.write_text("# vtk DataFile Version 4.2\nbad\nASCII\nDATASET UNSTRUCTURED_GRID\n"
-                 "POINTS 3 double\n0 0 0\nnan 0 0\n0 1 0\nCELLS 1 4\n3 0 1 2\nCELL_TYPES 1\n5\n")
+    q.write_text(
+        "# vtk DataFile Version 4.2\nbad\nASCII\nDATASET UNSTRUCTURED_GRID\n"
+        "POINTS 3 double\n0 0 0\nnan 0 0\n0 1 0\nCELLS 1 4\n3 0 1 2\nCELL_TYPES 1\n5\n"
+    )
     with pytest.raises(ValueError, match=r"nan\.vtk, point 1: NaN or infinite"):
         nio.read_scene(q)
     # garbage that meshio cannot parse

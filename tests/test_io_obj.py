@@ -62,12 +62,14 @@ def test_crlf_and_lf_give_the_same_scene(tmp_path):
 
 def test_default_surface_groups_and_usemtl(tmp_path):
     p = tmp_path / "g.obj"
-    p.write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n"
-                 "f 1 2 3\n"              # before any name
-                 "usemtl red\nf 1 3 4\n"  # usemtl is not a surface
-                 "g wall left\nf -4 -2 -1\n"
-                 "o box\ng\nf 2 3 4\n"    # a bare g: back to default
-                 "o wall left\nf 4 3 2\n")
+    p.write_text(
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n"
+        "f 1 2 3\n"  # before any name
+        "usemtl red\nf 1 3 4\n"  # usemtl is not a surface
+        "g wall left\nf -4 -2 -1\n"
+        "o box\ng\nf 2 3 4\n"  # a bare g: back to default
+        "o wall left\nf 4 3 2\n"
+    )
     d = nio.read_scene(p)
     assert d.names == ["default", "wall left"]
     assert d.surface.tolist() == [0, 0, 1, 0, 1]
@@ -85,7 +87,9 @@ def test_negative_indices_are_relative_to_the_vertices_read_so_far(tmp_path):
 def test_polygons_with_many_vertices_are_kept(tmp_path):
     ang = np.linspace(0, 2 * np.pi, 7)[:-1]
     p = tmp_path / "hex.obj"
-    p.write_text("".join(f"v {float(np.cos(a))!r} {float(np.sin(a))!r} 0\n" for a in ang) + "o hexagon\nf 1 2 3 4 5 6\n")
+    p.write_text(
+        "".join(f"v {float(np.cos(a))!r} {float(np.sin(a))!r} 0\n" for a in ang) + "o hexagon\nf 1 2 3 4 5 6\n"
+    )
     d = nio.read_scene(p)
     assert d.faces[0].tolist() == list(range(6)) and d.names == ["hexagon"]
 

@@ -1,6 +1,5 @@
 """Files cut short are refused, skipped cells are counted (issue 23, item 7)."""
 
-import shutil
 from pathlib import Path
 
 import meshio
@@ -44,8 +43,11 @@ def test_binary_stl_cut_is_refused_with_counts(tmp_path):
     raw = full.read_bytes()
     cut = tmp_path / "cutb.stl"
     cut.write_bytes(raw[: 84 + 50 * 7 + 20])
-    with pytest.raises(ValueError, match=r"cutb.stl: truncated: the binary STL header declares 12 triangles "
-                                         r"\(684 bytes\), the file has 454 bytes \(7 whole triangles\)"):
+    with pytest.raises(
+        ValueError,
+        match=r"cutb.stl: truncated: the binary STL header declares 12 triangles "
+        r"\(684 bytes\), the file has 454 bytes \(7 whole triangles\)",
+    ):
         nusselt.io.read_scene(cut)
 
 
@@ -55,8 +57,11 @@ def test_vs3_cut_at_a_record_is_refused(tmp_path):
     first_s = next(i for i, t in enumerate(text) if t.startswith("S "))
     cut = tmp_path / "cut.vs3"
     cut.write_text("\n".join(text[: first_s + 5]) + "\n")  # 5 surfaces, then nothing
-    with pytest.raises(ValueError, match=r"cut.vs3: the file ends without its end-of-data record .* after 5 "
-                                         r"surfaces .* it looks truncated"):
+    with pytest.raises(
+        ValueError,
+        match=r"cut.vs3: the file ends without its end-of-data record .* after 5 "
+        r"surfaces .* it looks truncated",
+    ):
         nusselt.io.read_scene(cut)
     assert end > first_s + 5
 
@@ -68,7 +73,10 @@ def test_skipped_cells_are_counted_in_a_warning(tmp_path):
     mesh = meshio.Mesh(m.points, [("triangle", m.cells[0].data), ("line", lines), ("tetra", tet)])
     p = tmp_path / "mixed.vtu"
     meshio.write(p, mesh)
-    with pytest.warns(SkippedCellsWarning, match=r"mixed.vtu: skipped 3 cells that are not surfaces "
-                                                 r"\(2 line, 1 tetra\); read 12 surface cells"):
+    with pytest.warns(
+        SkippedCellsWarning,
+        match=r"mixed.vtu: skipped 3 cells that are not surfaces "
+        r"\(2 line, 1 tetra\); read 12 surface cells",
+    ):
         d = nusselt.io.read_scene(p)
     assert len(d.faces) == 12 and d.meta["skipped_cells"] == {"line": 2}

@@ -53,16 +53,34 @@ def coverage(polys, axes, points):
 
 # --- F 3 with sub-surfaces, a mask, a null surface, combine and an obstruction ----------
 
+
 def test_room_surfaces_areas_and_flags():
     d = nio.read_scene(DATA / "room_subsurfaces.vs3")
-    assert d.names == ["floor", "ceiling", "west", "east", "south", "window", "door", "north",
-                       "north_mask", "obstruction12"]
+    assert d.names == [
+        "floor",
+        "ceiling",
+        "west",
+        "east",
+        "south",
+        "window",
+        "door",
+        "north",
+        "north_mask",
+        "obstruction12",
+    ]
     a = surface_areas(d)
-    expect = {"floor": 30, "ceiling": 30, "west": 15, "east": 15,  # east = 7.5 + combined 7.5
-              "south": 18 - 2 - 2,                                  # minus window and door
-              "window": 2, "door": 2,
-              "north": 18 - 1 - 1.5,                                # minus the hole and the mask
-              "north_mask": 1.5, "obstruction12": 1.5}
+    expect = {
+        "floor": 30,
+        "ceiling": 30,
+        "west": 15,
+        "east": 15,  # east = 7.5 + combined 7.5
+        "south": 18 - 2 - 2,  # minus window and door
+        "window": 2,
+        "door": 2,
+        "north": 18 - 1 - 1.5,  # minus the hole and the mask
+        "north_mask": 1.5,
+        "obstruction12": 1.5,
+    }
     for k, v in expect.items():
         assert a[k] == pytest.approx(v, rel=1e-13, abs=1e-12), k
     obst = [d.names[s] for s, o in zip(d.surface, d.obstruction) if o]
@@ -109,14 +127,17 @@ def test_crlf_and_trailing_comments(tmp_path):
     a, b = nio.read_scene(DATA / "room_subsurfaces.vs3"), nio.read_scene(p)
     assert a.names == b.names and np.array_equal(a.vertices, b.vertices)
     q = tmp_path / "comments.vs3"
-    q.write_text("T title\nc encl=1 ! a comment\nf 3 / comment\nv 1 0 0 0 ! one\nV 2 1 0 0\nV 3 1 1 0\n"
-                 "s 1 1 2 3 0 0 0 0.5 tri / triangle: v4 = 0\n*\nnot read\n")
+    q.write_text(
+        "T title\nc encl=1 ! a comment\nf 3 / comment\nv 1 0 0 0 ! one\nV 2 1 0 0\nV 3 1 1 0\n"
+        "s 1 1 2 3 0 0 0 0.5 tri / triangle: v4 = 0\n*\nnot read\n"
+    )
     d = nio.read_scene(q)
     assert d.names == ["tri"] and d.faces[0].size == 3 and d.meta["encl"] == 1
     np.testing.assert_array_equal(d.polygons[0], [[0, 0, 0], [1, 0, 0], [1, 1, 0]])
 
 
 # --- F 3a local shapes --------------------------------------------------------------------
+
 
 def test_f3a_rectangles_quads_and_triangles_against_hand_computed_vertices():
     d = nio.read_scene(DATA / "shapes_3a.vs3")
@@ -154,8 +175,9 @@ def test_f3a_rectangles_quads_and_triangles_against_hand_computed_vertices():
     np.testing.assert_allclose(p, [o + ey, o, o + 2 * ex, o + 2 * ex + ey], atol=1e-14)
     n = newell(p) / area(p)
     # outward normal: horizontal part points to azimuth 30 (clockwise from +y), n_z = cos(tilt)
-    np.testing.assert_allclose(n, [math.sin(math.radians(60)) * 0.5, math.sin(math.radians(60)) * r3 / 2, 0.5],
-                               atol=1e-14)
+    np.testing.assert_allclose(
+        n, [math.sin(math.radians(60)) * 0.5, math.sin(math.radians(60)) * r3 / 2, 0.5], atol=1e-14
+    )
     assert area(p) == pytest.approx(2.0, rel=1e-14)
     # facing directions of the axis-aligned cases
     facing = {"wall_east": [1, 0, 0], "floor": [0, 0, 1], "ceiling": [0, 0, -1], "quad": [0, 0, 1], "tri": [1, 0, 0]}
@@ -212,22 +234,44 @@ BAD = [
     (HEAD + SQ + "S 2 1 2 3 4 0 1 0.9 b\nS 3 1 2 3 4 0 2 0.9 c\n", 9, "itself combined into surface 1"),
     (HEAD + SQ + "S 2 1 2 3 4 0 2 0.9 b\n", 8, "must combine with a previous surface"),
     (HEAD + SQ + "M 2 4 3 2 1 1 1 0.9 m\n", 8, "cannot be combined"),
-    (HEAD + "V 5 2 0 0\nV 6 2 1 0\n" + "S 1 1 2 3 4 0 0 0.9 floor\nS 2 2 5 6 3 1 0 0.9 out\n", 10,
-     "sub-surface 2 is not inside its base surface 1"),
-    (HEAD + "V 5 0.2 0.2 0.5\nV 6 0.8 0.2 0.5\nV 7 0.8 0.8 0.5\nV 8 0.2 0.8 0.5\n" + "S 1 1 2 3 4 0 0 0.9 f\n"
-     "S 2 5 6 7 8 1 0 0.9 up\n", 12, "not in the plane of its base surface 1"),
-    (HEAD + "V 5 0.2 0.2 0\nV 6 0.8 0.2 0\nV 7 0.8 0.8 0\nV 8 0.2 0.8 0\n" + "S 1 1 2 3 4 0 0 0.9 f\n"
-     "S 2 8 7 6 5 1 0 0.9 w\n", 12, "sub-surface 2 must face the same way as its base 1"),
-    (HEAD + "V 5 0.2 0.2 0\nV 6 0.8 0.2 0\nV 7 0.8 0.8 0\nV 8 0.2 0.8 0\n" + "S 1 1 2 3 4 0 0 0.9 f\n"
-     "M 2 5 6 7 8 1 0 0.9 m\n", 12, "mask surface 2 must face the opposite way"),
-    (HEAD + "V 5 0.2 0.2 0\nV 6 0.8 0.2 0\nV 7 0.8 0.8 0\nV 8 0.2 0.8 0\n" + "S 1 1 2 3 4 0 0 0.9 f\n"
-     "S 2 5 6 7 8 1 0 0.9 a\nS 3 5 6 7 0 1 0 0.9 b\n", 13, "sub-surface 3 overlaps sub-surface 2 on the same base 1"),
+    (
+        HEAD + "V 5 2 0 0\nV 6 2 1 0\n" + "S 1 1 2 3 4 0 0 0.9 floor\nS 2 2 5 6 3 1 0 0.9 out\n",
+        10,
+        "sub-surface 2 is not inside its base surface 1",
+    ),
+    (
+        HEAD + "V 5 0.2 0.2 0.5\nV 6 0.8 0.2 0.5\nV 7 0.8 0.8 0.5\nV 8 0.2 0.8 0.5\n" + "S 1 1 2 3 4 0 0 0.9 f\n"
+        "S 2 5 6 7 8 1 0 0.9 up\n",
+        12,
+        "not in the plane of its base surface 1",
+    ),
+    (
+        HEAD + "V 5 0.2 0.2 0\nV 6 0.8 0.2 0\nV 7 0.8 0.8 0\nV 8 0.2 0.8 0\n" + "S 1 1 2 3 4 0 0 0.9 f\n"
+        "S 2 8 7 6 5 1 0 0.9 w\n",
+        12,
+        "sub-surface 2 must face the same way as its base 1",
+    ),
+    (
+        HEAD + "V 5 0.2 0.2 0\nV 6 0.8 0.2 0\nV 7 0.8 0.8 0\nV 8 0.2 0.8 0\n" + "S 1 1 2 3 4 0 0 0.9 f\n"
+        "M 2 5 6 7 8 1 0 0.9 m\n",
+        12,
+        "mask surface 2 must face the opposite way",
+    ),
+    (
+        HEAD + "V 5 0.2 0.2 0\nV 6 0.8 0.2 0\nV 7 0.8 0.8 0\nV 8 0.2 0.8 0\n" + "S 1 1 2 3 4 0 0 0.9 f\n"
+        "S 2 5 6 7 8 1 0 0.9 a\nS 3 5 6 7 0 1 0 0.9 b\n",
+        13,
+        "sub-surface 3 overlaps sub-surface 2 on the same base 1",
+    ),
     ("C eps\nF 3\n", 1, "control 'eps' has no value"),
     ("C encl=yes\nF 3\n", 1, "control encl must be an integer, got 'yes'"),
     ("F 3a\nV 1 0 0 0\n", 2, "V records are not used with 'F 3a'"),
     ("F 3a\nS 1 X 0 0 0.9 a\n 0 0 0 0 90 1 1\n", 2, "unknown shape 'X'"),
-    ("F 3a\nS 1 Q 0 0 0.9 a\n 0 0 0 0 90\n 0 0 1 0 1 1\nS 2 R 0 0 0.9 b\n 0 0 0 0 0 1 1\n", 5,
-     "surface 1 (shape Q, line 2) needs 13 numbers"),
+    (
+        "F 3a\nS 1 Q 0 0 0.9 a\n 0 0 0 0 90\n 0 0 1 0 1 1\nS 2 R 0 0 0.9 b\n 0 0 0 0 0 1 1\n",
+        5,
+        "surface 1 (shape Q, line 2) needs 13 numbers",
+    ),
     ("F 3a\nS 1 R 0 0 0.9 a\n 0 0 0 0\n", 2, "the file ends first"),
 ]
 
@@ -246,10 +290,12 @@ def test_malformed_vs3_names_file_and_line(tmp_path, text, line, problem):
 
 
 def test_file_level_errors(tmp_path):
-    for text, problem in [("", "the file is empty"),
-                          ("! only a comment\n/ and another\n", "no View3D records"),
-                          ("E\nS 1 1 2 3 4 0 0 0.9 a\n", "no View3D records"),
-                          ("F 3\nV 1 0 0 0\n", "no surfaces")]:
+    for text, problem in [
+        ("", "the file is empty"),
+        ("! only a comment\n/ and another\n", "no View3D records"),
+        ("E\nS 1 1 2 3 4 0 0 0.9 a\n", "no View3D records"),
+        ("F 3\nV 1 0 0 0\n", "no surfaces"),
+    ]:
         p = tmp_path / "f.vs3"
         p.write_text(text)
         with pytest.raises(ValueError, match=problem) as e:

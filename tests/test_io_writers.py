@@ -44,8 +44,16 @@ def test_npz_round_trip_sparse_dense_and_extras(tmp_path):
     names = ["floor", "ceiling", "wall, east", "wäll", "x"]
     std = sp.csr_array(f * 1e-3)
     p = tmp_path / "r.npz"
-    nio.write_npz(p, sp.csr_array(f), a, names, std_err=std, faces=np.arange(5), method=np.array("auto"),
-                  info={"options": {"n": 3}})
+    nio.write_npz(
+        p,
+        sp.csr_array(f),
+        a,
+        names,
+        std_err=std,
+        faces=np.arange(5),
+        method=np.array("auto"),
+        info={"options": {"n": 3}},
+    )
     r = nio.load_npz(p)
     assert isinstance(r["matrix"], sp.csr_array)
     np.testing.assert_array_equal(r["matrix"].toarray(), f)
@@ -176,16 +184,31 @@ def scene_from(path):
     """A Scene-like namespace from a SceneData (areas by Newell's formula)."""
     d = nio.read_scene(path)
     areas = np.array([np.linalg.norm(0.5 * np.cross(p, np.roll(p, -1, 0)).sum(0)) for p in d.polygons])
-    return types.SimpleNamespace(vertices=d.vertices, faces=d.faces, surface=d.surface, surface_names=d.names,
-                                 obstruction=d.obstruction, areas=areas, meta=d.meta, source=d.source,
-                                 emissivity=d.emissivity)
+    return types.SimpleNamespace(
+        vertices=d.vertices,
+        faces=d.faces,
+        surface=d.surface,
+        surface_names=d.names,
+        obstruction=d.obstruction,
+        areas=areas,
+        meta=d.meta,
+        source=d.source,
+        emissivity=d.emissivity,
+    )
 
 
 def patch_result(scene, seed=3):
     recv = np.flatnonzero(~scene.obstruction)
     f, _ = sample(len(recv), seed)
-    return FormFactors(sp.csr_array(f), scene.areas[recv], [f"{scene.surface_names[scene.surface[k]]}[{k}]" for k in recv],
-                       recv, "test", surface=scene.surface[recv], surface_names=scene.surface_names)
+    return FormFactors(
+        sp.csr_array(f),
+        scene.areas[recv],
+        [f"{scene.surface_names[scene.surface[k]]}[{k}]" for k in recv],
+        recv,
+        "test",
+        surface=scene.surface[recv],
+        surface_names=scene.surface_names,
+    )
 
 
 def test_write_result_dispatch(tmp_path):
@@ -210,6 +233,7 @@ def test_write_result_dispatch(tmp_path):
     em = np.array([0.9, 0.8, 0.9, 0.7, 0.9, 0.84, 0.6, 0.9, 0.9])
     assert v["emit"] == 1
     from nusselt.exchange import script_f
+
     np.testing.assert_allclose(v["matrix"], script_f(s.dense(), em), atol=5e-7)
     np.testing.assert_allclose(v["emissivity"], em)
     # EnergyPlus: always per surface, zone named after the scene file

@@ -16,8 +16,10 @@ def corner(a, b, c):
     if a <= 0 or b <= 0:
         return 0.0
     x, y = a / c, b / c
-    return (x / np.sqrt(1 + x * x) * np.arctan(y / np.sqrt(1 + x * x))
-            + y / np.sqrt(1 + y * y) * np.arctan(x / np.sqrt(1 + y * y))) / (2 * np.pi)
+    return (
+        x / np.sqrt(1 + x * x) * np.arctan(y / np.sqrt(1 + x * x))
+        + y / np.sqrt(1 + y * y) * np.arctan(x / np.sqrt(1 + y * y))
+    ) / (2 * np.pi)
 
 
 def parallel_rect(px, py, x0, x1, y0, y1, c):
@@ -85,8 +87,9 @@ def test_meshed_blocker_blocks_like_one_polygon(method, k, mixed, blocked_plates
     # the blocker cut into k x k tiles (joined into one occluder internally), or with every
     # other tile facing the other way (then they stay separate blockers): the same exact F
     t = np.linspace(0.25, 0.75, k + 1)
-    tiles = [rect(t[a], t[a + 1], t[b], t[b + 1], z=0.5, flip=mixed and (a + b) % 2 == 1)
-             for a in range(k) for b in range(k)]
+    tiles = [
+        rect(t[a], t[a + 1], t[b], t[b + 1], z=0.5, flip=mixed and (a + b) % 2 == 1) for a in range(k) for b in range(k)
+    ]
     f = nusselt.view_factor(EMITTER, RECEIVER, obstacles=tiles, method=method)
     assert f == pytest.approx(blocked_plates_exact, abs=1e-6)
     # a wall of tiles hiding everything gives exactly 0
@@ -108,7 +111,9 @@ def test_fully_hidden_and_irrelevant_blockers(method):
 def test_physical_bounds_and_units(method):
     rng = np.random.default_rng(3)
     for _ in range(3):
-        obs = [rect(*(np.sort(rng.uniform(-0.2, 1.2, 2))), *(np.sort(rng.uniform(-0.2, 1.2, 2))), z=rng.uniform(0.2, 0.8))]
+        obs = [
+            rect(*(np.sort(rng.uniform(-0.2, 1.2, 2))), *(np.sort(rng.uniform(-0.2, 1.2, 2))), z=rng.uniform(0.2, 0.8))
+        ]
         f = nusselt.view_factor(EMITTER, RECEIVER, obstacles=obs, method=method)
         free = nusselt.view_factor(EMITTER, RECEIVER)
         assert -1e-12 <= f <= free + (1e-3 if method == "montecarlo" else 1e-9)
@@ -142,8 +147,12 @@ def test_clipping_from_both_sides_agrees(i, j):
     # A_j are different integrals of different integrands (kinks at different places).
     polys, _ = room_with_crate(3)
     others = [p for k, p in enumerate(polys) if k not in (i, j)]
-    gij = polygon_area(polys[i]) * nusselt.view_factor(polys[i], polys[j], obstacles=others, method="clipping", tol=1e-9)
-    gji = polygon_area(polys[j]) * nusselt.view_factor(polys[j], polys[i], obstacles=others, method="clipping", tol=1e-9)
+    gij = polygon_area(polys[i]) * nusselt.view_factor(
+        polys[i], polys[j], obstacles=others, method="clipping", tol=1e-9
+    )
+    gji = polygon_area(polys[j]) * nusselt.view_factor(
+        polys[j], polys[i], obstacles=others, method="clipping", tol=1e-9
+    )
     free = polygon_area(polys[i]) * nusselt.view_factor(polys[i], polys[j])
     assert gij < free
     # Kinks along lines (blocker planes, parallel-edge planes) are split off exactly; kinks
@@ -156,17 +165,25 @@ def test_clipping_fixed_source_is_the_ratio_estimator(blocked_plates_exact):
     # the point F (an identity checked with the point API), exact when nothing or everything
     # is hidden, converging to the exact value as k grows.
     c, n = [0.5, 0.5, 0.0], [0, 0, 1]
-    fraction = (nusselt.point_view_factor(c, n, RECEIVER, obstacles=[BLOCKER], method="clipping")
-                / nusselt.point_view_factor(c, n, RECEIVER))
+    fraction = nusselt.point_view_factor(
+        c, n, RECEIVER, obstacles=[BLOCKER], method="clipping"
+    ) / nusselt.point_view_factor(c, n, RECEIVER)
     free = nusselt.view_factor(EMITTER, RECEIVER)
     centre = nusselt.view_factor(EMITTER, RECEIVER, obstacles=[BLOCKER], method="clipping", source="centre")
     assert centre == pytest.approx(free * fraction, rel=1e-12, abs=0)
     big = rect(-1, 2, -1, 2, z=0.5)
     assert nusselt.view_factor(EMITTER, RECEIVER, obstacles=[big], method="clipping", source=1) == 0.0
     aside = rect(3, 4, 0, 1, z=0.5)
-    assert nusselt.view_factor(EMITTER, RECEIVER, obstacles=[aside], method="clipping", source=1) == pytest.approx(free, rel=1e-12, abs=0)
-    errors = [abs(nusselt.view_factor(EMITTER, RECEIVER, obstacles=[BLOCKER], method="clipping", source=k)
-                  - blocked_plates_exact) for k in (2, 4, 8)]
+    assert nusselt.view_factor(EMITTER, RECEIVER, obstacles=[aside], method="clipping", source=1) == pytest.approx(
+        free, rel=1e-12, abs=0
+    )
+    errors = [
+        abs(
+            nusselt.view_factor(EMITTER, RECEIVER, obstacles=[BLOCKER], method="clipping", source=k)
+            - blocked_plates_exact
+        )
+        for k in (2, 4, 8)
+    ]
     assert errors[2] < errors[1] < errors[0] < 0.05  # (1 point: the centre sees none of it)
 
 
@@ -184,15 +201,20 @@ def test_obstructed_tol_is_met_per_pair(tol):
         assert abs(f - ref) <= tol * free, (i, j)
 
 
-
 def aligned_plates(a, b, c):
     """F between directly opposed a x b rectangles at distance c (Hottel's closed form)."""
     x, y = a / c, b / c
-    return 2 / (np.pi * x * y) * (
-        0.5 * np.log((1 + x * x) * (1 + y * y) / (1 + x * x + y * y))
-        + x * np.sqrt(1 + y * y) * np.arctan(x / np.sqrt(1 + y * y))
-        + y * np.sqrt(1 + x * x) * np.arctan(y / np.sqrt(1 + x * x))
-        - x * np.arctan(x) - y * np.arctan(y))
+    return (
+        2
+        / (np.pi * x * y)
+        * (
+            0.5 * np.log((1 + x * x) * (1 + y * y) / (1 + x * x + y * y))
+            + x * np.sqrt(1 + y * y) * np.arctan(x / np.sqrt(1 + y * y))
+            + y * np.sqrt(1 + x * x) * np.arctan(y / np.sqrt(1 + x * x))
+            - x * np.arctan(x)
+            - y * np.arctan(y)
+        )
+    )
 
 
 @pytest.mark.parametrize("x", [0.13, 0.5, 0.71])
@@ -208,7 +230,9 @@ def test_partition_between_plates(x, reach):
     wall = np.array([[x, -0.5, z0], [x, 1.5, z0], [x, 1.5, z1], [x, -0.5, z1]])
     for method in EXACT_METHODS + AREA_METHODS:
         f = nusselt.view_factor(EMITTER, RECEIVER, obstacles=[wall], method=method)
-        tol = {"quadrature": 1e-5, "subdivision": 1e-5, "montecarlo": 5e-4}.get(method, 1e-6 if method in EXACT_METHODS else 2e-3)
+        tol = {"quadrature": 1e-5, "subdivision": 1e-5, "montecarlo": 5e-4}.get(
+            method, 1e-6 if method in EXACT_METHODS else 2e-3
+        )
         assert f == pytest.approx(exact, abs=tol), method
 
 
@@ -221,16 +245,29 @@ def test_point_next_to_a_partition(x, px):
     wall = np.array([[x, -0.5, 0.0], [x, 1.5, 0.0], [x, 1.5, 1.0], [x, -0.5, 1.0]])
     for method in EXACT_METHODS + AREA_METHODS:
         f = nusselt.point_view_factor([px, 0.37, 0.0], [0, 0, 1], RECEIVER, obstacles=[wall], method=method)
-        tol = 1e-9 if method in EXACT_METHODS + ["quadrature", "subdivision"] else 1e-4 if method == "montecarlo" else 2e-3
+        tol = (
+            1e-9
+            if method in EXACT_METHODS + ["quadrature", "subdivision"]
+            else 1e-4
+            if method == "montecarlo"
+            else 2e-3
+        )
         assert f == pytest.approx(exact, abs=tol), method
+
 
 def prism(r, n, inward):
     """The n side walls of a regular prism of radius r, height 1 (open ends)."""
     out = []
     for k in range(n):
         a0, a1 = 2 * np.pi * k / n, 2 * np.pi * (k + 1) / n
-        q = np.array([[r * np.cos(a0), r * np.sin(a0), 0], [r * np.cos(a1), r * np.sin(a1), 0],
-                      [r * np.cos(a1), r * np.sin(a1), 1], [r * np.cos(a0), r * np.sin(a0), 1]])
+        q = np.array(
+            [
+                [r * np.cos(a0), r * np.sin(a0), 0],
+                [r * np.cos(a1), r * np.sin(a1), 0],
+                [r * np.cos(a1), r * np.sin(a1), 1],
+                [r * np.cos(a0), r * np.sin(a0), 1],
+            ]
+        )
         out.append(q[::-1].copy() if inward else q)  # counter-clockwise seen from outside
     return out
 
@@ -262,8 +299,14 @@ def test_blocked_cylinder_identity(r1, r2):
     a_in = sum(polygon_area(p) for p in inner)
     to_outer = sum(polygon_area(p) * nusselt.view_factor(p, q) for p in inner for q in outer) / a_in
     for method in EXACT_METHODS:
-        to_sphere = sum(polygon_area(p) * nusselt.view_factor(p, s, obstacles=outer, method=method)
-                        for p in inner for s in sphere) / a_in
+        to_sphere = (
+            sum(
+                polygon_area(p) * nusselt.view_factor(p, s, obstacles=outer, method=method)
+                for p in inner
+                for s in sphere
+            )
+            / a_in
+        )
         assert 0.05 < to_sphere < 0.4
         assert to_sphere == pytest.approx(1.0 - to_outer, abs=1e-6), method
 

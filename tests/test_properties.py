@@ -20,7 +20,13 @@ import nusselt  # noqa: E402
 _quiet = [HealthCheck.too_slow, HealthCheck.filter_too_much]
 settings.register_profile("default", max_examples=15, derandomize=True, deadline=None, suppress_health_check=_quiet)
 # the long run: seeded, not derandomized, so that it explores cases the default run does not
-settings.register_profile("long", max_examples=int(os.environ.get("NUSSELT_HYPOTHESIS_EXAMPLES", "10000")), deadline=None, suppress_health_check=_quiet, database=None)
+settings.register_profile(
+    "long",
+    max_examples=int(os.environ.get("NUSSELT_HYPOTHESIS_EXAMPLES", "10000")),
+    deadline=None,
+    suppress_health_check=_quiet,
+    database=None,
+)
 settings.load_profile(os.environ.get("NUSSELT_HYPOTHESIS", "default"))
 
 coord = st.floats(-1.0, 1.0, allow_nan=False, allow_infinity=False)

@@ -4,10 +4,10 @@ import warnings
 
 import numpy as np
 import pytest
+from conftest import cube_faces, rect
 
 import nusselt
 from nusselt import radiosity
-from conftest import cube_faces, rect
 
 
 @pytest.fixture(scope="module")

@@ -24,12 +24,16 @@ def corner_formula(a, b, h):
     """F from a differential area to a parallel a x b rectangle at height h, one corner of
     the rectangle straight above it (Howell's catalogue, B-3)."""
     x, y = a / h, b / h
-    return (x / np.hypot(1, x) * np.arctan(y / np.hypot(1, x)) + y / np.hypot(1, y) * np.arctan(x / np.hypot(1, y))) / (2 * np.pi)
+    return (x / np.hypot(1, x) * np.arctan(y / np.hypot(1, x)) + y / np.hypot(1, y) * np.arctan(x / np.hypot(1, y))) / (
+        2 * np.pi
+    )
 
 
 def test_corner_formula_against_quadrature():
     # F = int cos cos / (pi r^2) dA = int h^2 / (pi (x^2 + y^2 + h^2)^2) dx dy over the quarter
-    v, err = integrate.dblquad(lambda y, x: 1 / (np.pi * (x * x + y * y + 1) ** 2), 0, 0.5, 0, 0.5, epsabs=1e-14, epsrel=1e-13)
+    v, err = integrate.dblquad(
+        lambda y, x: 1 / (np.pi * (x * x + y * y + 1) ** 2), 0, 0.5, 0, 0.5, epsabs=1e-14, epsrel=1e-13
+    )
     assert abs(corner_formula(0.5, 0.5, 1.0) - v) < 1e-12
     assert abs(4 * v - 0.2394564704607) < 1e-12  # the issue's 0.2395
 
@@ -50,7 +54,9 @@ def test_unit_floor_under_huge_ceiling(method):
 
 
 def test_scene_of_very_different_sizes_keeps_reciprocity():
-    scene = nusselt.Scene.from_polygons([square(1e-8), square(1.0, 1.0, down=True), square(1.0, 2.0), square(1e8, 3.0, down=True)])
+    scene = nusselt.Scene.from_polygons(
+        [square(1e-8), square(1.0, 1.0, down=True), square(1.0, 2.0), square(1e8, 3.0, down=True)]
+    )
     r = nusselt.form_factors(scene)
     F = r.matrix.toarray()
     ref = 4 * corner_formula(0.5, 0.5, 1.0)
@@ -63,8 +69,20 @@ def test_scene_of_very_different_sizes_keeps_reciprocity():
 # Two triangles sharing a vertex, b tilted off a's plane by 2.2e-10 rad about that vertex
 # (found by a random search): before the clamp analytic gave -0.36 here, -0.23 at 3x the
 # tilt and -6e-8 at 100x; at 1e6x the tilt (2e-4 rad) F is 2.6e-9, and F grows with the tilt.
-TRI_A = np.array([[4.19188010011618, -3.8863446232102334, -4.0077621872878], [4.477424956433591, -5.078986884859024, -4.0077621872878], [4.533325234805206, -4.441095565427023, -4.0077621872878]])
-TRI_B = np.array([[5.026929879221676, -3.580899091906916, -4.007762187087627], [3.92026011574948, -4.192351259361759, -4.007762187335706], [4.533325234805206, -4.441095565427023, -4.0077621872878]])
+TRI_A = np.array(
+    [
+        [4.19188010011618, -3.8863446232102334, -4.0077621872878],
+        [4.477424956433591, -5.078986884859024, -4.0077621872878],
+        [4.533325234805206, -4.441095565427023, -4.0077621872878],
+    ]
+)
+TRI_B = np.array(
+    [
+        [5.026929879221676, -3.580899091906916, -4.007762187087627],
+        [3.92026011574948, -4.192351259361759, -4.007762187335706],
+        [4.533325234805206, -4.441095565427023, -4.0077621872878],
+    ]
+)
 
 
 def tilted_b(k):
@@ -105,7 +123,8 @@ def test_extreme_but_accepted_scales_give_the_unit_scale_answer(scale):
     blocked = nusselt.view_factor(_FLOOR, _CEIL, obstacles=[_SHIELD])
     assert nusselt.view_factor(_FLOOR * scale, _CEIL * scale) == pytest.approx(c11, rel=1e-13, abs=0)
     assert nusselt.view_factor(_FLOOR * scale, _CEIL * scale, obstacles=[_SHIELD * scale]) == pytest.approx(
-        blocked, rel=1e-11, abs=0)
+        blocked, rel=1e-11, abs=0
+    )
     scene = nusselt.Scene.from_polygons([_FLOOR * scale, _CEIL * scale, _SHIELD * scale])
     assert nusselt.form_factors(scene).dense()[0, 1] == pytest.approx(blocked, rel=1e-11, abs=0)
 

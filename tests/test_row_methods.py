@@ -3,9 +3,9 @@ the exact obstructed matrix (auto) of a closed room with an inner crate."""
 
 import numpy as np
 import pytest
+from test_obstructed import room_with_crate
 
 import nusselt
-from test_obstructed import room_with_crate
 
 ROW_METHODS = ["hemicube", "single-plane", "raytrace", "nusselt"]
 
@@ -51,12 +51,15 @@ def centre_rows(room):
     return rows, ref
 
 
-@pytest.mark.parametrize("method, coarse, fine", [
-    ("hemicube", {"resolution": 16}, {"resolution": 256}),
-    ("single-plane", {"min_cell": 1 / 4, "half_width": 40.0}, {"min_cell": 1 / 128, "half_width": 40.0}),
-    ("raytrace", {"rays": 256}, {"rays": 16384}),
-    ("nusselt", {"cells": 256}, {"cells": 16384}),
-])
+@pytest.mark.parametrize(
+    "method, coarse, fine",
+    [
+        ("hemicube", {"resolution": 16}, {"resolution": 256}),
+        ("single-plane", {"min_cell": 1 / 4, "half_width": 40.0}, {"min_cell": 1 / 128, "half_width": 40.0}),
+        ("raytrace", {"rays": 256}, {"rays": 16384}),
+        ("nusselt", {"cells": 256}, {"cells": 16384}),
+    ],
+)
 def test_error_falls_with_resolution(room, centre_rows, method, coarse, fine):
     scene, _ = room
     rows, ref = centre_rows

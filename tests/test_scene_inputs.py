@@ -25,10 +25,11 @@ def shared_vertices(polys):
     v, inv = np.unique(allv, axis=0, return_inverse=True)
     inv = inv.ravel()
     starts = np.cumsum([0] + [len(p) for p in polys])
-    return v, [inv[starts[k]:starts[k + 1]] for k in range(len(polys))]
+    return v, [inv[starts[k] : starts[k + 1]] for k in range(len(polys))]
 
 
 # --- item 1: orientation -------------------------------------------------------------------
+
 
 def test_outward_room_is_turned_inward_by_default():
     # A box with outward normals (trimesh.creation.box, Blender, EnergyPlus) gave nnz 0.
@@ -120,12 +121,16 @@ def test_patches_hidden_under_a_block_do_not_warn_but_a_reversed_surface_does():
     # correctly); the rest of the floor sees the ceiling, so nothing is reversed
     tiles = [rect(x, x + 0.5, y, y + 0.5) for x in (0.0, 0.5) for y in (0.0, 0.5)]
     ceiling = rect(0, 1, 0, 1, 1.0, flip=True)
-    box = [np.array(q, float)[::-1] for q in (  # outward
-        [[0, 0, 0], [0, 0.5, 0], [0, 0.5, 0.3], [0, 0, 0.3]],
-        [[0.5, 0, 0], [0.5, 0, 0.3], [0.5, 0.5, 0.3], [0.5, 0.5, 0]],
-        [[0, 0, 0], [0, 0, 0.3], [0.5, 0, 0.3], [0.5, 0, 0]],
-        [[0, 0.5, 0], [0.5, 0.5, 0], [0.5, 0.5, 0.3], [0, 0.5, 0.3]],
-        [[0, 0, 0.3], [0, 0.5, 0.3], [0.5, 0.5, 0.3], [0.5, 0, 0.3]])]
+    box = [
+        np.array(q, float)[::-1]
+        for q in (  # outward
+            [[0, 0, 0], [0, 0.5, 0], [0, 0.5, 0.3], [0, 0, 0.3]],
+            [[0.5, 0, 0], [0.5, 0, 0.3], [0.5, 0.5, 0.3], [0.5, 0.5, 0]],
+            [[0, 0, 0], [0, 0, 0.3], [0.5, 0, 0.3], [0.5, 0, 0]],
+            [[0, 0.5, 0], [0.5, 0.5, 0], [0.5, 0.5, 0.3], [0, 0.5, 0.3]],
+            [[0, 0, 0.3], [0, 0.5, 0.3], [0.5, 0.5, 0.3], [0.5, 0, 0.3]],
+        )
+    ]
     polys = tiles + [ceiling] + box
     names = ["floor"] * 4 + ["ceiling"] + ["box"] * 5
     scene = nusselt.Scene.from_polygons(polys, surface=names)
@@ -145,6 +150,7 @@ def test_patches_hidden_under_a_block_do_not_warn_but_a_reversed_surface_does():
 
 
 # --- item 2: duplicated and overlapping coplanar faces -----------------------------------
+
 
 def test_doubled_mesh_is_refused_naming_both_faces():
     polys, _ = cube_faces(2)
@@ -191,13 +197,17 @@ def test_overlap_search_is_not_quadratic_in_effort():
 
 # --- item 8: zero-area faces --------------------------------------------------------------
 
+
 def test_zero_area_faces_are_dropped_by_repair():
     polys, _ = cube_faces(1)
     v, f = shared_vertices(polys)
     sliver = [f[0][0], f[0][1], f[0][1]]  # two vertices the same: no area
     line = [f[0][0], f[0][1], f[0][0]]
-    with pytest.raises(ValueError, match=r"face 6 needs at least 3 distinct vertices.*\(2 faces have no area\)"
-                                         r".*repair=True"):
+    with pytest.raises(
+        ValueError,
+        match=r"face 6 needs at least 3 distinct vertices.*\(2 faces have no area\)"
+        r".*repair=True",
+    ):
         nusselt.Scene(v, f + [sliver, line])
     with pytest.warns(RepairWarning, match="dropped 2 of 8 faces .*2 with zero area"):
         scene = nusselt.Scene(v, f + [sliver, line], repair=True)
@@ -206,6 +216,7 @@ def test_zero_area_faces_are_dropped_by_repair():
 
 
 # --- item 12: indices, scaling, block sizes --------------------------------------------------
+
 
 def test_non_integer_face_indices_are_refused():
     v = rect(0, 1, 0, 1)
@@ -236,6 +247,7 @@ def test_numpy_integer_block_size():
 
 
 # --- issue 19 item 3: immutable scenes ---------------------------------------------------------
+
 
 def test_scene_is_immutable():
     polys, face = cube_faces(1)
@@ -281,6 +293,7 @@ def test_with_constructors_return_new_scenes():
 
 # --- item 1: two-sided faces ----------------------------------------------------------------
 
+
 def test_two_sided_plate_between_floor_and_ceiling():
     # A two-sided unit plate halfway between a unit floor and ceiling (all aligned): by
     # symmetry each side sees its own plate-to-plate closed form F_par(d = 0.5), the floor
@@ -289,10 +302,17 @@ def test_two_sided_plate_between_floor_and_ceiling():
     plate = rect(0, 1, 0, 1, 0.5)
     # Howell's C-11, aligned parallel rectangles a x b at distance c (X = a/c, Y = b/c)
     X = Y = 2.0
-    f_half = 2 / (np.pi * X * Y) * (
-        np.log(np.sqrt((1 + X * X) * (1 + Y * Y) / (1 + X * X + Y * Y)))
-        + X * np.sqrt(1 + Y * Y) * np.arctan(X / np.sqrt(1 + Y * Y))
-        + Y * np.sqrt(1 + X * X) * np.arctan(Y / np.sqrt(1 + X * X)) - X * np.arctan(X) - Y * np.arctan(Y))
+    f_half = (
+        2
+        / (np.pi * X * Y)
+        * (
+            np.log(np.sqrt((1 + X * X) * (1 + Y * Y) / (1 + X * X + Y * Y)))
+            + X * np.sqrt(1 + Y * Y) * np.arctan(X / np.sqrt(1 + Y * Y))
+            + Y * np.sqrt(1 + X * X) * np.arctan(Y / np.sqrt(1 + X * X))
+            - X * np.arctan(X)
+            - Y * np.arctan(Y)
+        )
+    )
     assert f_half == pytest.approx(0.4152532835771469, rel=1e-14)  # C-11 at c = 1/2
     scene = nusselt.Scene.from_polygons([floor, ceiling, plate], two_sided=[2])
     res = nusselt.form_factors(scene)
@@ -333,8 +353,11 @@ def test_overlap_search_finds_what_brute_force_finds():
     for _ in range(120):
         x, y = rng.uniform(0, 10, 2)
         w, h = rng.uniform(0.05, 1.5, 2) * (10.0 if rng.random() < 0.03 else 1.0)
-        polys.append(rect(x, x + w, y, y + h) if rng.random() < 0.5
-                     else np.array([[x, y, 0], [x + w, y, 0], [x, y + h, 0]], float))
+        polys.append(
+            rect(x, x + w, y, y + h)
+            if rng.random() < 0.5
+            else np.array([[x, y, 0], [x + w, y, 0], [x, y + h, 0]], float)
+        )
     polys += [rect(0, 10, 0, 10, 1.0, flip=True)]
     v = np.concatenate(polys)
     starts = np.cumsum([0] + [len(p) for p in polys])

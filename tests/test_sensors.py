@@ -35,7 +35,10 @@ def corner(a, b, c):
     """Howell's catalogue B-3: plane element at the corner of a parallel a x b rectangle at
     distance c (checked against dblquad in test_corner_formula_checked)."""
     x, y = a / c, b / c
-    return (x / np.sqrt(1 + x * x) * np.arctan(y / np.sqrt(1 + x * x)) + y / np.sqrt(1 + y * y) * np.arctan(x / np.sqrt(1 + y * y))) / (2 * np.pi)
+    return (
+        x / np.sqrt(1 + x * x) * np.arctan(y / np.sqrt(1 + x * x))
+        + y / np.sqrt(1 + y * y) * np.arctan(x / np.sqrt(1 + y * y))
+    ) / (2 * np.pi)
 
 
 def kernel_quad(p, n, poly):
@@ -128,7 +131,7 @@ def test_by_surface_is_the_sum_of_patch_columns_and_dense_equals_sparse():
     patch = sensors.point_view_factors(pts, [1, 0, 0], scene)
     surf = sensors.point_view_factors(pts, [1, 0, 0], scene, by_surface=True, dense=True)
     assert surf.shape == (2, 4)
-    for s, name in enumerate(scene.surface_names):
+    for s in range(len(scene.surface_names)):
         cols = np.flatnonzero(scene.surface[scene.receivers] == s)
         assert surf[:, s] == pytest.approx(patch.toarray()[:, cols].sum(axis=1), rel=1e-14, abs=1e-16)
     assert np.array_equal(patch.toarray(), sensors.point_view_factors(pts, [1, 0, 0], scene, dense=True))
@@ -195,7 +198,9 @@ def test_radiant_temperatures_uniform_enclosure_and_halves():
     # ISO 7726 Annex B: the projected-area weights applied to the six plane radiant temperatures
     for form, (wu, wl, wf) in sensors.ISO7726_WEIGHTS.items():
         t = sensors.mean_radiant_temperature(c, scene, temps, form=form)[0]
-        want = (wu * (tpr["up"] + tpr["down"]) + wl * (tpr["left"] + tpr["right"]) + wf * (tpr["front"] + tpr["back"])) / (2 * (wu + wl + wf))
+        want = (
+            wu * (tpr["up"] + tpr["down"]) + wl * (tpr["left"] + tpr["right"]) + wf * (tpr["front"] + tpr["back"])
+        ) / (2 * (wu + wl + wf))
         assert t == pytest.approx(want[0], rel=1e-14)
 
 

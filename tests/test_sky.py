@@ -8,10 +8,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from scipy.integrate import dblquad, quad
+from test_sensors import box, corner, rect
 
 import nusselt
 from nusselt import sky
-from test_sensors import box, corner, rect
 
 
 def test_patch_tables_follow_tregenza_and_reinhart():
@@ -35,8 +35,10 @@ def test_unobstructed_patch_factors_against_numerical_integration(normal):
     f = sky.unobstructed_patch_factors(n, s)[0]
     # the whole sky of an element tilted by beta from the zenith: (1 + cos beta) / 2
     assert f.sum() == pytest.approx((1 + n[2]) / 2, abs=1e-12)
+
     def g(az, a):
         return max(0.0, np.cos(a) * (n[0] * np.sin(az) + n[1] * np.cos(az)) + n[2] * np.sin(a)) * np.cos(a) / np.pi
+
     for k in [0, 17, 45, 80, 111, 135, 144]:
         ref = dblquad(g, s.alt_lo[k], s.alt_hi[k], s.az_lo[k], s.az_hi[k], epsabs=1e-12, epsrel=1e-10)[0]
         assert f[k] == pytest.approx(ref, rel=1e-8, abs=1e-11), k  # dblquad on a kinked integrand: ~1e-12
@@ -84,14 +86,21 @@ def test_point_under_a_roof_and_in_a_closed_room():
         assert svf[k] == pytest.approx(1 - lam, rel=1e-12)
     # nothing above: 1; a vertical element above a ground plane: all but what the ground
     # covers (Lambert's form, tested in test_sensors), a little more than 0.5
-    open_ = sky.sky_view_factors_points([[0, 0, 1.0], [0, 0, 1.0]], [[0, 0, 1.0], [1.0, 0, 0]], nusselt.Scene.from_polygons([ground]))
+    open_ = sky.sky_view_factors_points(
+        [[0, 0, 1.0], [0, 0, 1.0]], [[0, 0, 1.0], [1.0, 0, 0]], nusselt.Scene.from_polygons([ground])
+    )
     assert open_[0] == 1.0
     assert open_[1] == pytest.approx(1 - nusselt.point_view_factor([0, 0, 1.0], [1.0, 0, 0], ground), rel=1e-12)
     assert 0.5 < open_[1] < 0.5 + 2 * np.arctan(1 / 50) / np.pi  # the ground ends 50 away
-    assert sky.sky_patch_factors([[0, 0, 1.0]], [1.0, 0, 0], nusselt.Scene.from_polygons([ground]))[0].sum() == pytest.approx(0.5, abs=1e-12)
+    assert sky.sky_patch_factors([[0, 0, 1.0]], [1.0, 0, 0], nusselt.Scene.from_polygons([ground]))[
+        0
+    ].sum() == pytest.approx(0.5, abs=1e-12)
     room = nusselt.Scene.from_polygons(box((0, 0, 0), (3, 2, 2.5))).refined(0.7)
     rng = np.random.default_rng(5)
-    assert np.abs(sky.sky_view_factors_points(rng.uniform(0.1, 1.9, (20, 3)), rng.normal(size=(20, 3)), room)).max() < 1e-12
+    assert (
+        np.abs(sky.sky_view_factors_points(rng.uniform(0.1, 1.9, (20, 3)), rng.normal(size=(20, 3)), room)).max()
+        < 1e-12
+    )
     assert np.abs(sky.sky_view_factors(room)).max() < 1e-12
 
 

@@ -9,12 +9,31 @@
 from . import exchange, io, radiosity, sensors, sky
 from ._core import __version__
 from .api import form_factors, point_view_factor, view_factor
-from .methods import METHODS
-from .sensors import point_view_factors
-from .result import FormFactors
-from .io import load_npz, read_scene
-from .scene import NusseltWarning, OrientationWarning, RepairWarning, Scene
 from .checks import ZeroRowWarning
+from .io import load_npz, read_scene
+from .methods import METHODS
+from .result import FormFactors
+from .scene import NusseltWarning, OrientationWarning, RepairWarning, Scene
+from .sensors import point_view_factors
 
-__all__ = ["Scene", "FormFactors", "METHODS", "form_factors", "view_factor", "point_view_factor", "point_view_factors", "sensors", "sky", "exchange", "radiosity", "load_npz", "read_scene", "io", "__version__",
-           "NusseltWarning", "OrientationWarning", "RepairWarning", "ZeroRowWarning"]
+__all__ = [
+    "Scene",
+    "FormFactors",
+    "METHODS",
+    "form_factors",
+    "view_factor",
+    "point_view_factor",
+    "point_view_factors",
+    "sensors",
+    "sky",
+    "exchange",
+    "radiosity",
+    "load_npz",
+    "read_scene",
+    "io",
+    "__version__",
+    "NusseltWarning",
+    "OrientationWarning",
+    "RepairWarning",
+    "ZeroRowWarning",
+]

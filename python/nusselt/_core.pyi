@@ -92,6 +92,7 @@ def view_factor(
     planarity_tol: float,
 ) -> tuple[float, float]:
     """(F, standard error); KeyboardInterrupt on Ctrl-C, ValueError past the `budget` option."""
+
 def point_view_factor(
     p: npt.NDArray[np.float64],
     n: npt.NDArray[np.float64],
@@ -102,8 +103,10 @@ def point_view_factor(
     planarity_tol: float,
 ) -> tuple[float, float]:
     """(F, standard error); KeyboardInterrupt on Ctrl-C, ValueError past the `budget` option."""
+
 def methods() -> list[dict[str, Any]]:
     """The core's method registry: per method {name, kind ("pairs" | "rows"), obstructed,
     doc, options: [{name, type ("float" | "int" | "bool" | "source"), default, lo, hi,
     keywords, doc}]}."""
+
 def _panic_guard_selftest() -> None: ...

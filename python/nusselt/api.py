@@ -132,10 +132,21 @@ def form_factors(
     if scene.two_sided.any():
         from .two_sided import two_sided_form_factors
 
-        return two_sided_form_factors(form_factors, scene, method=method, dense=dense, progress=progress,
-                                      checkpoint=checkpoint, resume=resume, block_size=block_size,
-                                      threshold=threshold, dtype=dtype, client=client,
-                                      check_memory=check_memory, **options)
+        return two_sided_form_factors(
+            form_factors,
+            scene,
+            method=method,
+            dense=dense,
+            progress=progress,
+            checkpoint=checkpoint,
+            resume=resume,
+            block_size=block_size,
+            threshold=threshold,
+            dtype=dtype,
+            client=client,
+            check_memory=check_memory,
+            **options,
+        )
     if not (isinstance(threshold, (int, float)) and 0.0 <= threshold < 1.0):
         raise ValueError(f"threshold must be a number in [0, 1), got {threshold!r}")
     value_type = np.dtype(dtype)
@@ -146,8 +157,9 @@ def form_factors(
     nr = len(recv)
     kind = m.kind
     if check_memory:
-        budget.check_memory(nr, kind=kind, threshold=float(threshold), dtype=value_type,
-                            with_std="seed" in m.options, dense=dense)
+        budget.check_memory(
+            nr, kind=kind, threshold=float(threshold), dtype=value_type, with_std="seed" in m.options, dense=dense
+        )
     col_of = np.full(len(scene), -1, dtype=np.int64)
     col_of[recv] = np.arange(nr)
 
@@ -176,8 +188,9 @@ def form_factors(
         if client is not None:
             from . import distributed
 
-            done = distributed.run_blocks(client, scene, method, opts, kind, plan, checkpoint=ckpt,
-                                          progress_bar=bar, keep=keep)
+            done = distributed.run_blocks(
+                client, scene, method, opts, kind, plan, checkpoint=ckpt, progress_bar=bar, keep=keep
+            )
         else:
             done = blocks.run_blocks(compute, plan, checkpoint=ckpt, progress_bar=bar, keep=keep)
     finally:

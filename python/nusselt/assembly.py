@@ -74,8 +74,8 @@ def pair_reciprocity(done: list[Block], scene_areas: np.ndarray, dtype=np.float6
             continue
         area_i = np.repeat(scene_areas[b.rows], np.diff(b.indptr))
         for s in range(0, b.data.size, _CHUNK):  # bounded temporaries
-            g, ai = b.data[s:s + _CHUNK], area_i[s:s + _CHUNK]
-            aj = scene_areas[b.indices[s:s + _CHUNK]]
+            g, ai = b.data[s : s + _CHUNK], area_i[s : s + _CHUNK]
+            aj = scene_areas[b.indices[s : s + _CHUNK]]
             g1, g2 = g / ai, g / aj  # F_ij, F_ji as the mirror divides
             if np.dtype(dtype) != np.float64:
                 g1, g2 = g1.astype(dtype).astype(np.float64), g2.astype(dtype).astype(np.float64)
@@ -144,7 +144,11 @@ def assemble_rows(done: list[Block], col_of: np.ndarray, nr: int, dtype=np.float
     matrix = canonical_csr(val, idx, indptr, nr) if sorted_rows else sp.csr_array((val, idx, indptr), shape=(nr, nr))
     std = None
     if sd is not None:
-        std = canonical_csr(sd, idx, matrix.indptr, nr) if sorted_rows else sp.csr_array((sd, idx, indptr), shape=(nr, nr))
+        std = (
+            canonical_csr(sd, idx, matrix.indptr, nr)
+            if sorted_rows
+            else sp.csr_array((sd, idx, indptr), shape=(nr, nr))
+        )
     if not sorted_rows:
         matrix.sum_duplicates()
         if std is not None:
@@ -158,7 +162,7 @@ def _rows_ascend(idx: np.ndarray, indptr: np.ndarray, chunk: int = 1 << 22) -> b
     starts[indptr] = True  # positions where a row begins (its first entry has no predecessor)
     for s in range(1, len(idx), chunk):
         e = min(s + chunk, len(idx))
-        if np.any((idx[s:e] <= idx[s - 1:e - 1]) & ~starts[s:e]):
+        if np.any((idx[s:e] <= idx[s - 1 : e - 1]) & ~starts[s:e]):
             return False
     return True
 

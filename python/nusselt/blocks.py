@@ -37,8 +37,9 @@ class Block:
 
     @property
     def nbytes(self) -> int:
-        return sum(a.nbytes for a in (self.rows, self.indptr, self.indices, self.data, self.std, self.lost)
-                   if a is not None)
+        return sum(
+            a.nbytes for a in (self.rows, self.indptr, self.indices, self.data, self.std, self.lost) if a is not None
+        )
 
 
 def plan_blocks(recv: np.ndarray, kind: str, block_size: int) -> list[np.ndarray]:

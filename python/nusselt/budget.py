@@ -101,13 +101,18 @@ def check_memory(n: int, *, kind: str, threshold: float, dtype, with_std: bool, 
     if dense:
         need = 2 * n * n * np.dtype(dtype).itemsize
         if need > avail:
-            raise MemoryError(f"a dense {n} x {n} matrix needs about {_gib(need)} but {_gib(avail)} are available; "
-                              "use the sparse result (dense=False)")
+            raise MemoryError(
+                f"a dense {n} x {n} matrix needs about {_gib(need)} but {_gib(avail)} are available; "
+                "use the sparse result (dense=False)"
+            )
     need = peak_bytes(n, kind=kind, threshold=threshold, dtype=dtype, with_std=with_std)
     if need > avail:
-        hint = ("a sparse threshold (threshold=/--threshold, e.g. 1e-4) bounds a pair method's result at "
-                "2.2 n / threshold entries" if kind == "pairs" else
-                "a row method keeps every entry it finds; use a pair method with a threshold, or fewer patches")
+        hint = (
+            "a sparse threshold (threshold=/--threshold, e.g. 1e-4) bounds a pair method's result at "
+            "2.2 n / threshold entries"
+            if kind == "pairs"
+            else "a row method keeps every entry it finds; use a pair method with a threshold, or fewer patches"
+        )
         raise MemoryError(
             f"the result of {n} receivers may hold {max_entries(n, threshold, kind):,} entries, about {_gib(need)} "
             f"at the peak, but {_gib(avail)} are available: {hint}; float32 values (dtype=float32/--float32) save "
@@ -115,8 +120,9 @@ def check_memory(n: int, *, kind: str, threshold: float, dtype, with_std: bool, 
         )
 
 
-def check_disk(path: str, n: int, *, kind: str, threshold: float, dtype, with_std: bool,
-               checkpoint: bool = True) -> None:
+def check_disk(
+    path: str, n: int, *, kind: str, threshold: float, dtype, with_std: bool, checkpoint: bool = True
+) -> None:
     """Raises OSError when the worst-case output (plus its checkpoint) does not fit on disk."""
     d = os.path.dirname(os.path.abspath(path))
     try:

@@ -85,15 +85,24 @@ def what_changed(old: dict, new: dict) -> str:
     out = []
     if old.get("scene") != new.get("scene"):
         po, pn = old.get("polygons"), new.get("polygons")
-        out.append("the scene geometry" + (f" ({po} polygons then, {pn} now)" if po != pn else
-                                           " (same number of polygons, different vertices or faces)"))
+        out.append(
+            "the scene geometry"
+            + (
+                f" ({po} polygons then, {pn} now)"
+                if po != pn
+                else " (same number of polygons, different vertices or faces)"
+            )
+        )
     for key, label in (("method", "the method"), ("kind", "the kind of blocks"), ("block_size", "the block size")):
         if old.get(key) != new.get(key):
             out.append(f"{label} ({old.get(key)!r} then, {new.get(key)!r} now)")
     oo, no = old.get("options") or {}, new.get("options") or {}
     if oo != no:
-        diffs = [f"{k}={oo.get(k, '(unset)')!r} then, {no.get(k, '(unset)')!r} now"
-                 for k in sorted(set(oo) | set(no)) if oo.get(k) != no.get(k)]
+        diffs = [
+            f"{k}={oo.get(k, '(unset)')!r} then, {no.get(k, '(unset)')!r} now"
+            for k in sorted(set(oo) | set(no))
+            if oo.get(k) != no.get(k)
+        ]
         out.append("the options (" + "; ".join(diffs) + ")")
     if not out and old.get("blocks") != new.get("blocks"):
         out.append(f"the number of blocks ({old.get('blocks')} then, {new.get('blocks')} now)")
@@ -133,14 +142,24 @@ class Checkpoint:
                 )
             if old.get("digest") != self.digest:
                 raise ValueError(
-                    f"checkpoint {self.path} belongs to a different run: {what_changed(old.get('run') or {}, self.run)} "
+                    f"checkpoint {self.path} belongs to a different run: "
+                    f"{what_changed(old.get('run') or {}, self.run)} "
                     "changed; run again with what it was made with, or remove it to start afresh"
                 )
         else:
             os.makedirs(self.path, exist_ok=True)
             with atomic_open(manifest, "w") as fh:
-                json.dump({"format": FORMAT, "version": VERSION, "digest": self.digest, "blocks": self.run["blocks"],
-                           "run": self.run}, fh, indent=1)
+                json.dump(
+                    {
+                        "format": FORMAT,
+                        "version": VERSION,
+                        "digest": self.digest,
+                        "blocks": self.run["blocks"],
+                        "run": self.run,
+                    },
+                    fh,
+                    indent=1,
+                )
         self._lock()
 
     def _read_manifest(self, manifest: str) -> dict:
@@ -266,7 +285,12 @@ def _check_block(b: Block) -> None:
         raise ValueError("missing arrays")
     if b.rows.ndim != 1 or b.indptr.shape != (len(b.rows) + 1,):
         raise ValueError("indptr does not match rows")
-    if b.indptr[0] != 0 or np.any(np.diff(b.indptr) < 0) or b.indptr[-1] != len(b.indices) or len(b.indices) != len(b.data):
+    if (
+        b.indptr[0] != 0
+        or np.any(np.diff(b.indptr) < 0)
+        or b.indptr[-1] != len(b.indices)
+        or len(b.indices) != len(b.data)
+    ):
         raise ValueError("inconsistent CSR parts")
     if b.std is not None and b.std.shape != b.data.shape:
         raise ValueError("std does not match data")

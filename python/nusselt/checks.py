@@ -32,11 +32,11 @@ def facing_partner(scene: Scene, rows: np.ndarray, cols: np.ndarray, backs: bool
     step = max(1, _BUDGET // max(len(cols), 1) // 8)
     cc, nc = c[cols], n[cols]
     for s in range(0, len(rows), step):
-        r = rows[s:s + step]
+        r = rows[s : s + step]
         d = cc[None, :, :] - c[r][:, None, :]  # (r, cols, 3): from row to column
         ahead = np.einsum("rkj,rj->rk", d, n[r]) > tol
         behind = np.einsum("rkj,kj->rk", d, nc) < -tol
-        out[s:s + step] = (ahead & behind).any(axis=1)
+        out[s : s + step] = (ahead & behind).any(axis=1)
     return out
 
 
@@ -75,12 +75,16 @@ def warn_zero_rows(scene: Scene, matrix, faces: np.ndarray, *, stacklevel: int =
     sampled = f" (of {len(checked)} zero rows checked)" if len(checked) < len(zero) else ""
     if m.nnz == 0:
         how = "behind" if backs else "in front of"
-        msg = (f"the whole result is 0, although faces lie {how} each other ({first} and others): "
-               "the faces probably face the wrong way (fronts must face each other: counter-clockwise "
-               "seen from the front); try orient='inward' (a room) or 'outward' (solids), or "
-               "two_sided for plates (nusselt matrix --orient ...)")
+        msg = (
+            f"the whole result is 0, although faces lie {how} each other ({first} and others): "
+            "the faces probably face the wrong way (fronts must face each other: counter-clockwise "
+            "seen from the front); try orient='inward' (a room) or 'outward' (solids), or "
+            "two_sided for plates (nusselt matrix --orient ...)"
+        )
     else:
-        msg = (f"{len(bad)} of {nr} rows are 0{sampled} although another face lies in front of each "
-               f"({first} first): every row of their surfaces is 0: those faces probably face the "
-               "wrong way (or are hidden entirely behind other faces); see orient and two_sided in the guide")
+        msg = (
+            f"{len(bad)} of {nr} rows are 0{sampled} although another face lies in front of each "
+            f"({first} first): every row of their surfaces is 0: those faces probably face the "
+            "wrong way (or are hidden entirely behind other faces); see orient and two_sided in the guide"
+        )
     warnings.warn(f"{scene.source + ': ' if scene.source else ''}{msg}", ZeroRowWarning, stacklevel=stacklevel)

@@ -50,15 +50,19 @@ def cmd_demo(args) -> int:
 
     base = Scene.from_file(bundled("cornell_box.obj"))
     # One surface per block for the summary (the OBJ has one object per block face).
-    names = [base.surface_names[s].split("_")[0] + " block" if "_" in base.surface_names[s] else base.surface_names[s]
-             for s in base.surface]
+    names = [
+        base.surface_names[s].split("_")[0] + " block" if "_" in base.surface_names[s] else base.surface_names[s]
+        for s in base.surface
+    ]
     scene = Scene.from_polygons(base.polygons, surface=names)
     t0 = time.perf_counter()
     res = form_factors(scene, method="auto", obstructed_tol=args.tol)
     t1 = time.perf_counter()
     surf = res.by_surface()
-    print(f"Cornell box with two blocks ({len(scene)} polygons, mm): form factors F[from, to], method auto, "
-          f"obstructed pairs to {args.tol:g} relative ({t1 - t0:.1f} s)")
+    print(
+        f"Cornell box with two blocks ({len(scene)} polygons, mm): form factors F[from, to], method auto, "
+        f"obstructed pairs to {args.tol:g} relative ({t1 - t0:.1f} s)"
+    )
     print(surf.summary())
     print("(rows sum to less than 1: the box is open at the camera side; the block bottoms stand on the floor)")
 
@@ -75,15 +79,29 @@ def cmd_demo(args) -> int:
     f_to_light = np.full(len(fine), np.nan)
     f_to_light[others] = a_light * f_light / fine.areas[others]
     check = abs(f_light.sum() - surf.row_sums[surf.names.index("light")])
-    print(f"Light row on {len(fine)} patches (edges <= {args.refine:g} mm): sum {f_light.sum():.8f}, "
-          f"differs from the surface row by {check:.1e} (additivity) ({t2 - t1:.1f} s)")
-    image = render(polys, f_to_light, eye=(278.0, 273.0, -800.0), look=(0.0, 0.0, 1.0), up=(0.0, 1.0, 0.0),
-                   fov_deg=39.3, size=args.size, label="F to light", smooth=True, groups=fine.surface)
+    print(
+        f"Light row on {len(fine)} patches (edges <= {args.refine:g} mm): sum {f_light.sum():.8f}, "
+        f"differs from the surface row by {check:.1e} (additivity) ({t2 - t1:.1f} s)"
+    )
+    image = render(
+        polys,
+        f_to_light,
+        eye=(278.0, 273.0, -800.0),
+        look=(0.0, 0.0, 1.0),
+        up=(0.0, 1.0, 0.0),
+        fov_deg=39.3,
+        size=args.size,
+        label="F to light",
+        smooth=True,
+        groups=fine.surface,
+    )
     out = os.path.abspath(args.output)
     write_png(out, image)
     lo, hi = value_range(f_to_light)
-    print(f"wrote {out}: every patch coloured by its form factor to the light (colour bar on the right, "
-          f"log scale {10**lo:.1e} .. {10**hi:.1e}; darkest = smaller or 0, i.e. in shadow; the light grey)")
+    print(
+        f"wrote {out}: every patch coloured by its form factor to the light (colour bar on the right, "
+        f"log scale {10**lo:.1e} .. {10**hi:.1e}; darkest = smaller or 0, i.e. in shadow; the light grey)"
+    )
     from .cli_radiation import colour_picture
 
     colour = os.path.splitext(out)[0] + "_colour.png"
@@ -120,20 +138,21 @@ def cmd_matrix(args) -> int:
     import os
     import shutil
 
+    from . import zones
     from .api import form_factors
     from .io import write_result
     from .io.writers import MAX_DENSE_ROWS, _check_size, result_format
-    from . import zones
-    from .scene import Scene
-
     from .methods import resolve
+    from .scene import Scene
 
     fmt = result_format(args.output)  # an unknown extension fails before any work
     opts = _parse_options(args.option)
     resolve(args.method, dict(opts))  # an unknown method or option fails before any work
     if args.to_surface is not None and fmt != "vtu":
-        raise ValueError(f"--to-surface is for .vtu output (F from every patch to a surface, for ParaView); "
-                         f"{args.output} is .{fmt}: every entry is there already")
+        raise ValueError(
+            f"--to-surface is for .vtu output (F from every patch to a surface, for ParaView); "
+            f"{args.output} is .{fmt}: every entry is there already"
+        )
     scene = Scene.from_file(args.scene, orient=args.orient, repair=args.repair)
     _report_orientation(scene)
     if args.two_sided:
@@ -152,13 +171,23 @@ def cmd_matrix(args) -> int:
 
     dtype = "float32" if args.float32 else "float64"
     method_info, _ = resolve(args.method, dict(opts))
-    sizes = {"kind": method_info.kind, "threshold": args.threshold, "dtype": dtype,
-             "with_std": "seed" in method_info.options}
+    sizes = {
+        "kind": method_info.kind,
+        "threshold": args.threshold,
+        "dtype": dtype,
+        "with_std": "seed" in method_info.options,
+    }
     need, avail = budget.peak_bytes(n, **sizes), budget.available_memory()
-    print(f"{args.scene}: {len(scene)} polygons, {n} with rows, {len(scene.surface_names)} surfaces; "
-          f"method {args.method}", file=sys.stderr)
-    print(f"memory: at most {_gib(need)} for the sparse result (if every pair exchanged radiation)"
-          + (f", {_gib(avail)} available" if avail else ""), file=sys.stderr)
+    print(
+        f"{args.scene}: {len(scene)} polygons, {n} with rows, {len(scene.surface_names)} surfaces; "
+        f"method {args.method}",
+        file=sys.stderr,
+    )
+    print(
+        f"memory: at most {_gib(need)} for the sparse result (if every pair exchanged radiation)"
+        + (f", {_gib(avail)} available" if avail else ""),
+        file=sys.stderr,
+    )
     budget.check_disk(args.output, n, **sizes)  # refused before any work; memory: by form_factors
     run_opts = {"dtype": dtype}
     if args.dask:
@@ -170,8 +199,10 @@ def cmd_matrix(args) -> int:
         compute = zones.zone_form_factors
         if args.zone_name:
             zone_opts["zones"] = [zones.select_zone(scene, args.zone_name)]
-        print(f"zones: {', '.join(zone_opts.get('zones') or zones.scene_zones(scene))} (each its own enclosure)",
-              file=sys.stderr)
+        print(
+            f"zones: {', '.join(zone_opts.get('zones') or zones.scene_zones(scene))} (each its own enclosure)",
+            file=sys.stderr,
+        )
     try:
         res = compute(
             scene,
@@ -197,8 +228,9 @@ def cmd_matrix(args) -> int:
         res = res.by_surface()
         res.info["patch_level"] = patch_level
     res.info.update(res.trust())
-    write_result(args.output, res, scene=scene, to_surface=args.to_surface, zone_name=args.zone_name,
-                 compress=args.compress)
+    write_result(
+        args.output, res, scene=scene, to_surface=args.to_surface, zone_name=args.zone_name, compress=args.compress
+    )
     from .checkpoint import remove_dir
 
     remove_dir(partial)  # the manifest last: a Ctrl-C here leaves a checkpoint that resumes
@@ -230,8 +262,11 @@ def _report_orientation(scene) -> None:
     """Say on stderr which faces orient turned (a room exported as a solid, say)."""
     info = scene.meta.get("orient", {})
     if info.get("flipped"):
-        print(f"{scene.source}: turned {len(info['flipped'])} faces of a closed shell facing outward to face "
-              f"inward (--orient {info['orient']}; --orient as-is keeps them)", file=sys.stderr)
+        print(
+            f"{scene.source}: turned {len(info['flipped'])} faces of a closed shell facing outward to face "
+            f"inward (--orient {info['orient']}; --orient as-is keeps them)",
+            file=sys.stderr,
+        )
 
 
 def _faces_of_surfaces(scene, names: list[str], option: str):
@@ -258,20 +293,30 @@ def _corrected(res, *, closure: bool):
     from .methods import METHODS
 
     if res.std_err is None and METHODS[res.method].kind == "pairs":
-        print(f"nusselt: --correct: nothing to do, method {res.method!r} computes every pair once "
-              "(reciprocity is exact) and reports no statistical error", file=sys.stderr)
+        print(
+            f"nusselt: --correct: nothing to do, method {res.method!r} computes every pair once "
+            "(reciprocity is exact) and reports no statistical error",
+            file=sys.stderr,
+        )
         return res
     if closure and res.lost is not None and len(res.lost) and res.lost.max() > 1e-2:
         k = int(res.lost.argmax())
-        raise ValueError(f"--correct closure needs a closed enclosure, but row {res.names[k]} leaves "
-                         f"{res.lost[k]:.3g} of its hemisphere unassigned; use --correct reciprocity "
-                         "(with --resume the finished blocks are reused)")
+        raise ValueError(
+            f"--correct closure needs a closed enclosure, but row {res.names[k]} leaves "
+            f"{res.lost[k]:.3g} of its hemisphere unassigned; use --correct reciprocity "
+            "(with --resume the finished blocks are reused)"
+        )
     before = (res.closure_error, res.reciprocity_error)
     fixed = correct(res.matrix, res.areas, res.std_err, closure=closure)
-    out = dataclasses.replace(res, matrix=fixed, info={**res.info, "corrected": "closure" if closure else "reciprocity"})
-    print(f"corrected ({'reciprocity and closure' if closure else 'reciprocity'}): max |row sum - 1| "
-          f"{before[0]:.2e} -> {out.closure_error:.2e}, reciprocity error {before[1]:.2e} -> "
-          f"{out.reciprocity_error:.2e}", file=sys.stderr)
+    out = dataclasses.replace(
+        res, matrix=fixed, info={**res.info, "corrected": "closure" if closure else "reciprocity"}
+    )
+    print(
+        f"corrected ({'reciprocity and closure' if closure else 'reciprocity'}): max |row sum - 1| "
+        f"{before[0]:.2e} -> {out.closure_error:.2e}, reciprocity error {before[1]:.2e} -> "
+        f"{out.reciprocity_error:.2e}",
+        file=sys.stderr,
+    )
     return out
 
 
@@ -291,10 +336,16 @@ def build_parser() -> argparse.ArgumentParser:
         "its form factor to the light.",
     )
     d.add_argument("-o", "--output", default="cornell_box.png", help="PNG to write (default: %(default)s)")
-    d.add_argument("--refine", type=float, default=60.0, metavar="MM",
-                   help="patch edge length for the picture, mm (default: %(default)s)")
-    d.add_argument("--tol", type=float, default=1e-4,
-                   help="relative accuracy target of obstructed pairs (default: %(default)s)")
+    d.add_argument(
+        "--refine",
+        type=float,
+        default=60.0,
+        metavar="MM",
+        help="patch edge length for the picture, mm (default: %(default)s)",
+    )
+    d.add_argument(
+        "--tol", type=float, default=1e-4, help="relative accuracy target of obstructed pairs (default: %(default)s)"
+    )
     d.add_argument("--size", type=int, default=512, help="image size in pixels (default: %(default)s)")
     d.set_defaults(func=cmd_demo)
 
@@ -306,54 +357,108 @@ def build_parser() -> argparse.ArgumentParser:
         "while the run goes on, so an interrupted run continues with --resume and loses no finished work.",
         epilog="output formats: .npz (sparse matrix, areas, names, row sums, errors; read it with "
         "nusselt.io.load_npz), .csv (dense table), .txt (View3D text output), .idf / .epJSON (EnergyPlus "
-        "ZoneProperty:UserViewFactors:BySurfaceName, per surface, one object per zone, all pairs), .vtu (ParaView: per-cell area, row sum, "
+        "ZoneProperty:UserViewFactors:BySurfaceName, per surface, one object per zone, all pairs), "
+        ".vtu (ParaView: per-cell area, row sum, "
         "and F to --to-surface). Exit status: 0 done, 2 bad input or error, 130 interrupted.",
     )
-    m.add_argument("scene", help="scene file: .obj, .vs3 (View3D), .idf / .epJSON (EnergyPlus: every zone is "
-                   "computed as its own enclosure) or any mesh format meshio reads")
+    m.add_argument(
+        "scene",
+        help="scene file: .obj, .vs3 (View3D), .idf / .epJSON (EnergyPlus: every zone is "
+        "computed as its own enclosure) or any mesh format meshio reads",
+    )
     m.add_argument("-o", "--output", required=True, help="output file (.npz, .csv, .txt View3D, .idf, .epJSON, .vtu)")
     m.add_argument("--method", default="auto", help="method name (default: %(default)s; see `nusselt methods`)")
-    m.add_argument("--surfaces", action="store_true",
-                   help="aggregate to named surfaces (additivity over receivers, area-weighted sources)")
-    m.add_argument("--option", action="append", metavar="NAME=VALUE",
-                   help="method option, repeatable (e.g. --option obstructed_tol=1e-4; see `nusselt methods`)")
-    m.add_argument("--refine", type=float, metavar="LENGTH",
-                   help="split polygons into patches with edges no longer than LENGTH (scene units)")
-    m.add_argument("--threshold", type=float, default=0.0, metavar="F",
-                   help="sparse threshold: drop pairs with F_ij < F and F_ji < F (default 0: keep every nonzero "
-                   "entry; reciprocity is kept); the largest row mass dropped is reported and stored")
-    m.add_argument("--correct", choices=["reciprocity", "closure"],
-                   help="weighted least-squares correction of sampled results: enforce reciprocity "
-                   "(and, with 'closure', row sums of 1: closed enclosures only); exact entries never change")
-    m.add_argument("--resume", action="store_true",
-                   help="continue an interrupted run from OUTPUT.partial (finished blocks are kept)")
-    m.add_argument("--block-size", type=int, default=2_000_000, metavar="N",
-                   help="work per checkpointed block: pairs (pair methods) or row entries (row methods)")
-    m.add_argument("--float32", action="store_true",
-                   help="store F as float32 (a third less memory and disk; about 7 significant digits)")
+    m.add_argument(
+        "--surfaces",
+        action="store_true",
+        help="aggregate to named surfaces (additivity over receivers, area-weighted sources)",
+    )
+    m.add_argument(
+        "--option",
+        action="append",
+        metavar="NAME=VALUE",
+        help="method option, repeatable (e.g. --option obstructed_tol=1e-4; see `nusselt methods`)",
+    )
+    m.add_argument(
+        "--refine",
+        type=float,
+        metavar="LENGTH",
+        help="split polygons into patches with edges no longer than LENGTH (scene units)",
+    )
+    m.add_argument(
+        "--threshold",
+        type=float,
+        default=0.0,
+        metavar="F",
+        help="sparse threshold: drop pairs with F_ij < F and F_ji < F (default 0: keep every nonzero "
+        "entry; reciprocity is kept); the largest row mass dropped is reported and stored",
+    )
+    m.add_argument(
+        "--correct",
+        choices=["reciprocity", "closure"],
+        help="weighted least-squares correction of sampled results: enforce reciprocity "
+        "(and, with 'closure', row sums of 1: closed enclosures only); exact entries never change",
+    )
+    m.add_argument(
+        "--resume",
+        action="store_true",
+        help="continue an interrupted run from OUTPUT.partial (finished blocks are kept)",
+    )
+    m.add_argument(
+        "--block-size",
+        type=int,
+        default=2_000_000,
+        metavar="N",
+        help="work per checkpointed block: pairs (pair methods) or row entries (row methods)",
+    )
+    m.add_argument(
+        "--float32",
+        action="store_true",
+        help="store F as float32 (a third less memory and disk; about 7 significant digits)",
+    )
     m.add_argument("--compress", action="store_true", help=".npz output: zip-deflated (smaller, slower)")
-    m.add_argument("--dask", metavar="SCHEDULER",
-                   help="run the row blocks on a Dask cluster: a scheduler address (tcp://host:8786), a "
-                   "scheduler file (.json), or local[:N] for N local worker processes; blocks go to "
-                   "OUTPUT.partial as they finish, so --resume works as for a local run")
-    m.add_argument("--orient", choices=["auto", "inward", "outward", "as-is"], default="auto",
-                   help="how closed shells of faces are turned: auto (default) turns a closed shell facing "
-                   "outward that holds everything else (a room exported as a solid) inward and leaves the "
-                   "rest; inward / outward turn every closed shell; as-is keeps the file's order")
-    m.add_argument("--repair", action="store_true",
-                   help="drop faces of zero area and faces duplicating another (counted in a warning) "
-                   "instead of refusing the file")
-    m.add_argument("--two-sided", action="append", metavar="SURFACE",
-                   help="faces of this named surface emit and receive on both sides (repeatable)")
+    m.add_argument(
+        "--dask",
+        metavar="SCHEDULER",
+        help="run the row blocks on a Dask cluster: a scheduler address (tcp://host:8786), a "
+        "scheduler file (.json), or local[:N] for N local worker processes; blocks go to "
+        "OUTPUT.partial as they finish, so --resume works as for a local run",
+    )
+    m.add_argument(
+        "--orient",
+        choices=["auto", "inward", "outward", "as-is"],
+        default="auto",
+        help="how closed shells of faces are turned: auto (default) turns a closed shell facing "
+        "outward that holds everything else (a room exported as a solid) inward and leaves the "
+        "rest; inward / outward turn every closed shell; as-is keeps the file's order",
+    )
+    m.add_argument(
+        "--repair",
+        action="store_true",
+        help="drop faces of zero area and faces duplicating another (counted in a warning) "
+        "instead of refusing the file",
+    )
+    m.add_argument(
+        "--two-sided",
+        action="append",
+        metavar="SURFACE",
+        help="faces of this named surface emit and receive on both sides (repeatable)",
+    )
     m.add_argument("--to-surface", metavar="NAME", help="for .vtu output: also store F from every patch to NAME")
-    m.add_argument("--zone-name", metavar="NAME",
-                   help="EnergyPlus models (.idf, .epJSON): compute and write only zone NAME; other scenes: the "
-                   "zone name written to .idf/.epJSON output (default: the scene file's name)")
+    m.add_argument(
+        "--zone-name",
+        metavar="NAME",
+        help="EnergyPlus models (.idf, .epJSON): compute and write only zone NAME; other scenes: the "
+        "zone name written to .idf/.epJSON output (default: the scene file's name)",
+    )
     m.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
     m.set_defaults(func=cmd_matrix)
 
-    ms = sub.add_parser("methods", help="list the methods and their options",
-                        description="Lists every method with its options and defaults.")
+    ms = sub.add_parser(
+        "methods",
+        help="list the methods and their options",
+        description="Lists every method with its options and defaults.",
+    )
     ms.set_defaults(func=cmd_methods)
 
     from .cli_sensors import add_sensors_parser

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import argparse
 import csv
 
 import numpy as np
@@ -61,13 +60,17 @@ def cmd_exchange(args) -> int:
         _read_values(args.values, names, eps, t, q)
     t[np.isfinite(q)] = np.nan  # a flux replaces a temperature given earlier (e.g. for every surface)
     r = exchange.solve(res, eps, t, q, ambient=args.ambient)
-    print(f"{args.scene}: {len(names)} surfaces, grey diffuse exchange (net-radiation method), "
-          f"T in K, q in W per unit area, Q in W (positive: the surface loses heat)")
+    print(
+        f"{args.scene}: {len(names)} surfaces, grey diffuse exchange (net-radiation method), "
+        f"T in K, q in W per unit area, Q in W (positive: the surface loses heat)"
+    )
     print(r.table())
     if args.output:
         with open(args.output, "w", newline="") as fh:
             w = csv.writer(fh)
-            w.writerow(["surface", "area", "emissivity", "temperature_K", "radiosity_W_per_area", "flux_W_per_area", "heat_W"])
+            w.writerow(
+                ["surface", "area", "emissivity", "temperature_K", "radiosity_W_per_area", "flux_W_per_area", "heat_W"]
+            )
             for k, n in enumerate(names):
                 w.writerow([n, res.areas[k], eps[k], r.temperature[k], r.radiosity[k], r.flux[k], r.heat[k]])
         print(f"wrote {args.output}")
@@ -104,14 +107,37 @@ def cmd_render(args) -> int:
     centre, extent = (lo + hi) / 2, float(max(hi[0] - lo[0], hi[1] - lo[1]))
     eye = _triple(args.eye, "--eye") if args.eye else np.array([centre[0], centre[1], lo[2] - 1.44 * extent])
     look = _triple(args.look, "--look") if args.look else np.array([0.0, 0.0, 1.0])
-    print(f"{args.scene}: " + colour_picture(fine, args.output, rho=rho, emit=emit, eye=eye, look=look,
-                                              up=_triple(args.up, "--up"), size=args.size,
-                                              resolution=args.resolution, solver=args.solver))
+    print(
+        f"{args.scene}: "
+        + colour_picture(
+            fine,
+            args.output,
+            rho=rho,
+            emit=emit,
+            eye=eye,
+            look=look,
+            up=_triple(args.up, "--up"),
+            size=args.size,
+            resolution=args.resolution,
+            solver=args.solver,
+        )
+    )
     return 0
 
 
-def colour_picture(fine, path, *, rho=None, emit=None, eye, look=(0.0, 0.0, 1.0), up=(0.0, 1.0, 0.0),
-                   size=512, resolution=128, solver="direct") -> str:
+def colour_picture(
+    fine,
+    path,
+    *,
+    rho=None,
+    emit=None,
+    eye,
+    look=(0.0, 0.0, 1.0),
+    up=(0.0, 1.0, 0.0),
+    size=512,
+    resolution=128,
+    solver="direct",
+) -> str:
     """Hemicube form factors of the patches of ``fine``, the RGB radiosity solve (Cornell box
     colours unless given) and a smooth-shaded PNG at ``path``; returns a one-line summary."""
     import os
@@ -125,38 +151,50 @@ def colour_picture(fine, path, *, rho=None, emit=None, eye, look=(0.0, 0.0, 1.0)
     res = form_factors(fine, method="hemicube", resolution=resolution)
     sol = radiosity.solve(res, rho, emit, method=solver)
     colours = radiosity.display_colours(sol.radiosity, emit)
-    image = render_rgb(fine.polygons, vertex_values(fine.polygons, colours, fine.surface), eye=eye, look=look,
-                       up=up, size=size)
+    image = render_rgb(
+        fine.polygons, vertex_values(fine.polygons, colours, fine.surface), eye=eye, look=look, up=up, size=size
+    )
     write_png(path, image)
-    return (f"{len(fine)} patches, hemicube form factors, RGB radiosity ({solver}, residual {sol.residual:.1e}); "
-            f"wrote {os.path.abspath(path)} (smooth shading, colour bleeding from the red and green walls)")
+    return (
+        f"{len(fine)} patches, hemicube form factors, RGB radiosity ({solver}, residual {sol.residual:.1e}); "
+        f"wrote {os.path.abspath(path)} (smooth shading, colour bleeding from the red and green walls)"
+    )
 
 
 def add_radiation_parsers(sub) -> None:
     e = sub.add_parser(
-        "exchange", help="grey diffuse radiant exchange between the named surfaces of a scene",
+        "exchange",
+        help="grey diffuse radiant exchange between the named surfaces of a scene",
         description="Form factors per named surface, then the net-radiation method. Per surface give a "
         "temperature (K) or a net flux (W per unit area, positive leaving): --temperature 293.15 sets every "
         "surface, --temperature floor=300 one surface (later options win, a --flux replaces a temperature). "
         "--emissivity likewise (default: the file's emissivities, 0.9 for formats without them). Or a CSV "
         "--values with header surface,emissivity,temperature,flux (empty cell: not given). Open scenes: "
-        "what escapes goes to a black ambient at --ambient K.")
+        "what escapes goes to a black ambient at --ambient K.",
+    )
     e.add_argument("scene")
     e.add_argument("--emissivity", action="append", metavar="[SURFACE=]EPS")
     e.add_argument("--temperature", action="append", metavar="[SURFACE=]K")
     e.add_argument("--flux", action="append", metavar="[SURFACE=]W_PER_AREA")
     e.add_argument("--values", metavar="CSV", help="per-surface values (surface,emissivity,temperature,flux)")
-    e.add_argument("--ambient", type=float, default=None, metavar="K",
-                   help="ambient/sky temperature for an open scene (default: 0 K)")
+    e.add_argument(
+        "--ambient",
+        type=float,
+        default=None,
+        metavar="K",
+        help="ambient/sky temperature for an open scene (default: 0 K)",
+    )
     e.add_argument("--method", default="auto", help="form-factor method (default: %(default)s)")
     e.add_argument("-o", "--output", help="CSV of the per-surface results")
     e.set_defaults(func=cmd_exchange)
 
     r = sub.add_parser(
-        "render", help="RGB radiosity picture of a scene (colour bleeding, smooth shading)",
+        "render",
+        help="RGB radiosity picture of a scene (colour bleeding, smooth shading)",
         description="Meshes the scene, computes hemicube form factors, solves the RGB radiosity system and "
         "draws it. Surfaces named red/green/light get the Cornell box colours, others white (0.73, 0.71, 0.68); "
-        "override with --reflectance NAME=R,G,B and --emission NAME=R,G,B.")
+        "override with --reflectance NAME=R,G,B and --emission NAME=R,G,B.",
+    )
     r.add_argument("scene")
     r.add_argument("-o", "--output", required=True, help="PNG to write")
     r.add_argument("--refine", type=float, default=None, metavar="LENGTH", help="largest patch edge (scene units)")

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import argparse
 import csv
 import sys
 
@@ -23,9 +22,9 @@ def _temperatures(pairs: list[str] | None) -> dict[str, float]:
 
 
 def cmd_sensors(args) -> int:
+    from . import sensors
     from .cli import _parse_options
     from .scene import Scene
-    from . import sensors
 
     temps = _temperatures(args.temperature)
     scene = Scene.from_file(args.scene)
@@ -39,7 +38,9 @@ def cmd_sensors(args) -> int:
     cols["F_uncovered"] = np.clip(1.0 - f.sum(axis=1), 0.0, None)
     if temps:
         cols["t_plane"] = sensors.radiant_temperature(f, scene, temps, rest=args.rest)
-        cols[f"t_mrt_{args.form}"] = sensors.mean_radiant_temperature(pts, scene, temps, form=args.form, rest=args.rest, method=args.method)
+        cols[f"t_mrt_{args.form}"] = sensors.mean_radiant_temperature(
+            pts, scene, temps, form=args.form, rest=args.rest, method=args.method
+        )
     elif args.rest is not None:
         raise ValueError("--rest needs --temperature for the scene's surfaces")
     with open(args.output, "w", newline="") as fh:
@@ -66,13 +67,25 @@ def add_sensors_parser(sub) -> None:
     s.add_argument("scene", help="scene file (.obj, .vs3, any mesh format meshio reads)")
     s.add_argument("points", help="CSV of points: header with x,y,z,nx,ny,nz")
     s.add_argument("-o", "--output", required=True, help="CSV to write")
-    s.add_argument("--temperature", action="append", metavar="SURFACE=KELVIN",
-                   help="surface temperature in kelvin, repeatable; every surface a point sees needs one")
-    s.add_argument("--rest", type=float, metavar="KELVIN",
-                   help="temperature of whatever the scene does not cover (sky, ambient) for open scenes")
-    s.add_argument("--form", choices=["sphere", "standing", "seated"], default="sphere",
-                   help="mean radiant temperature of a small sphere (exact angle factors) or ISO 7726's six-"
-                   "direction form for a standing/seated person facing +x (default: %(default)s)")
+    s.add_argument(
+        "--temperature",
+        action="append",
+        metavar="SURFACE=KELVIN",
+        help="surface temperature in kelvin, repeatable; every surface a point sees needs one",
+    )
+    s.add_argument(
+        "--rest",
+        type=float,
+        metavar="KELVIN",
+        help="temperature of whatever the scene does not cover (sky, ambient) for open scenes",
+    )
+    s.add_argument(
+        "--form",
+        choices=["sphere", "standing", "seated"],
+        default="sphere",
+        help="mean radiant temperature of a small sphere (exact angle factors) or ISO 7726's six-"
+        "direction form for a standing/seated person facing +x (default: %(default)s)",
+    )
     s.add_argument("--method", default="auto", help="method (default: %(default)s; auto/clipping are exact)")
     s.add_argument("--option", action="append", metavar="NAME=VALUE", help="method option, repeatable")
     s.set_defaults(func=cmd_sensors)

@@ -45,8 +45,13 @@ def scene_payload(scene: Any) -> dict:
     for a in (coords, offsets, receiver):
         h.update(a.tobytes())
     h.update(repr(float(scene.planarity_tol)).encode())
-    return {"digest": h.hexdigest(), "coords": coords, "offsets": offsets, "receiver": receiver,
-            "planarity_tol": float(scene.planarity_tol)}
+    return {
+        "digest": h.hexdigest(),
+        "coords": coords,
+        "offsets": offsets,
+        "receiver": receiver,
+        "planarity_tol": float(scene.planarity_tol),
+    }
 
 
 def _core_scene(payload: dict):
@@ -55,8 +60,12 @@ def _core_scene(payload: dict):
         from . import _core
 
         # arrays that came over the wire may be unaligned views of a message buffer: copy
-        core = _core.SceneCore(np.array(payload["coords"], dtype=np.float64), np.array(payload["offsets"], dtype=np.int64),
-                               np.array(payload["receiver"], dtype=bool), payload["planarity_tol"])
+        core = _core.SceneCore(
+            np.array(payload["coords"], dtype=np.float64),
+            np.array(payload["offsets"], dtype=np.int64),
+            np.array(payload["receiver"], dtype=bool),
+            payload["planarity_tol"],
+        )
         _SCENES.clear()  # one scene at a time per worker process
         _SCENES[payload["digest"]] = core
         _BUILDS[payload["digest"]] = _BUILDS.get(payload["digest"], 0) + 1
@@ -113,8 +122,17 @@ def run_blocks(
         tag = hashlib.sha256((payload["digest"] + method + repr(sorted(opts.items())) + kind).encode()).hexdigest()[:16]
         futures = {}
         for k in todo:
-            f = client.submit(compute_block, shipped, plan[k], method, opts, kind,
-                              key=f"nusselt-block-{tag}-{k}", retries=RETRIES, pure=False)
+            f = client.submit(
+                compute_block,
+                shipped,
+                plan[k],
+                method,
+                opts,
+                kind,
+                key=f"nusselt-block-{tag}-{k}",
+                retries=RETRIES,
+                pure=False,
+            )
             futures[f] = k
         try:
             for f in as_completed(futures):
@@ -134,8 +152,7 @@ def run_blocks(
     return done  # type: ignore[return-value]
 
 
-def connect(address: str | None = None, *, scheduler_file: str | None = None,
-            local_workers: int | None = None):
+def connect(address: str | None = None, *, scheduler_file: str | None = None, local_workers: int | None = None):
     """A ``distributed.Client``: to a scheduler ``address``, through a ``scheduler_file``, or
     (neither given) to a new LocalCluster of ``local_workers`` processes, one thread each (the
     core is multithreaded itself), closed with the client."""

@@ -76,10 +76,14 @@ def per_surface(values, n: int, what: str, *, lo: float | None = None, hi: float
     a = a.ravel()
     if a.shape != (n,):
         raise ValueError(f"{what}: expected one value per surface ({n}), got {np.asarray(values).shape}")
-    bad = np.flatnonzero(~np.isfinite(a) | ((a < lo) if lo is not None else False) | ((a > hi) if hi is not None else False))
+    bad = np.flatnonzero(
+        ~np.isfinite(a) | ((a < lo) if lo is not None else False) | ((a > hi) if hi is not None else False)
+    )
     if bad.size:
         k = int(bad[0])
-        rng = f" in [{lo:g}, {hi:g}]" if lo is not None and hi is not None else (f" >= {lo:g}" if lo is not None else "")
+        rng = (
+            f" in [{lo:g}, {hi:g}]" if lo is not None and hi is not None else (f" >= {lo:g}" if lo is not None else "")
+        )
         raise ValueError(f"{what}[{k}] = {a[k]!r}: expected a finite number{rng}")
     return a
 
@@ -125,8 +129,10 @@ def reflection_solve(f, rho: np.ndarray, rhs: np.ndarray, *, transpose: bool = F
     return x
 
 
-_SINGULAR = ("the reflection system I - rho F is singular: the enclosure is closed and nothing in it absorbs "
-             "(every reflectance is 1); give some surface a nonzero emissivity/absorptance")
+_SINGULAR = (
+    "the reflection system I - rho F is singular: the enclosure is closed and nothing in it absorbs "
+    "(every reflectance is 1); give some surface a nonzero emissivity/absorptance"
+)
 
 
 # --------------------------------------------------------------------------------------
@@ -267,8 +273,10 @@ class ExchangeResult:
         lines = [f"{'surface':<{w}} {'area':>10} {'eps':>6} {'T K':>9} {'J W/m2':>11} {'q W/m2':>11} {'Q W':>11}"]
         for k, n in enumerate(self.names):
             j = self.radiosity[k] if self.radiosity.ndim == 1 else self.radiosity[k].sum()
-            lines.append(f"{n:<{w}} {self.areas[k]:10.4g} {eps[k]:6.3f} {self.temperature[k]:9.3f} {j:11.5g} "
-                         f"{self.flux[k]:11.5g} {self.heat[k]:11.5g}")
+            lines.append(
+                f"{n:<{w}} {self.areas[k]:10.4g} {eps[k]:6.3f} {self.temperature[k]:9.3f} {j:11.5g} "
+                f"{self.flux[k]:11.5g} {self.heat[k]:11.5g}"
+            )
         amb = "" if self.ambient is None else f" at {self.ambient:g} K"
         lines.append(f"sum of Q = {self.heat.sum():.6g} W; heat to the ambient{amb} = {self.ambient_heat:.6g} W")
         return "\n".join(lines)
@@ -318,16 +326,20 @@ def solve(
     has_t, has_q = np.isfinite(t), np.isfinite(q)
     for k in range(n):
         if has_t[k] == has_q[k]:
-            raise ValueError(f"surface {k} ({names[k]!r}): give exactly one of temperature and flux "
-                             f"(got {'both' if has_t[k] else 'neither'})")
+            raise ValueError(
+                f"surface {k} ({names[k]!r}): give exactly one of temperature and flux "
+                f"(got {'both' if has_t[k] else 'neither'})"
+            )
         if has_t[k] and t[k] < 0:
             raise ValueError(f"surface {k} ({names[k]!r}): temperature {t[k]:g} K is negative")
     t_amb = 0.0 if ambient is None else float(ambient)
     if not (np.isfinite(t_amb) and t_amb >= 0):
         raise ValueError(f"ambient temperature must be a finite number of kelvin >= 0, got {ambient!r}")
     if has_q.all() and not d.any():
-        raise ValueError("every surface has a given flux in a closed enclosure: the temperatures are undetermined; "
-                         "give at least one temperature")
+        raise ValueError(
+            "every surface has a given flux in a closed enclosure: the temperatures are undetermined; "
+            "give at least one temperature"
+        )
 
     if bands is None:
         eps = per_surface(emissivity, n, "emissivity", lo=0.0, hi=1.0)
@@ -354,8 +366,11 @@ def solve(
     tk = np.where(has_t, t, 0.0)
     ebb = frac * (sigma * tk**4)[:, None]  # (n, nb)
     c = np.where(has_t[:, None], 1.0 - eps_b, 1.0)
-    rhs = np.where(has_t[:, None], eps_b * ebb + (1.0 - eps_b) * d[:, None] * e_amb[None, :],
-                   np.where(has_q, q, 0.0)[:, None] + d[:, None] * e_amb[None, :])
+    rhs = np.where(
+        has_t[:, None],
+        eps_b * ebb + (1.0 - eps_b) * d[:, None] * e_amb[None, :],
+        np.where(has_q, q, 0.0)[:, None] + d[:, None] * e_amb[None, :],
+    )
     nb = rhs.shape[1]
     if nb == 1 or np.allclose(c, c[:, :1]):
         j = reflection_solve(m, c[:, 0], rhs) if nb > 1 else reflection_solve(m, c[:, 0], rhs[:, 0])[:, None]
@@ -370,14 +385,25 @@ def solve(
             e_b = h[:, 0] + np.where(has_q, q, 0.0) / eps
         e_b = np.where(eps > 0, e_b, np.nan)
         if np.any(e_b[~has_t] < -1e-9 * max(1.0, float(np.nanmax(np.abs(h))))):
-            raise ValueError("the given fluxes need a negative emissive power somewhere (no temperature satisfies them)")
+            raise ValueError(
+                "the given fluxes need a negative emissive power somewhere (no temperature satisfies them)"
+            )
         t_out = np.where(has_t, t, (np.maximum(e_b, 0.0) / sigma) ** 0.25)
         qq = np.where(has_q, q, qq)
     heat = a0 * qq
     squeeze = bands is None
     return ExchangeResult(
-        names=names, areas=a0, emissivity=eps, temperature=t_out,
-        radiosity=j[:, 0] if squeeze else j, irradiation=h[:, 0] if squeeze else h,
-        flux=qq, heat=heat, ambient_heat=float(heat.sum()), ambient=ambient,
-        bands=None if squeeze else np.asarray(bands, dtype=float), _f=m, _sigma=sigma,
+        names=names,
+        areas=a0,
+        emissivity=eps,
+        temperature=t_out,
+        radiosity=j[:, 0] if squeeze else j,
+        irradiation=h[:, 0] if squeeze else h,
+        flux=qq,
+        heat=heat,
+        ambient_heat=float(heat.sum()),
+        ambient=ambient,
+        bands=None if squeeze else np.asarray(bands, dtype=float),
+        _f=m,
+        _sigma=sigma,
     )

@@ -46,7 +46,9 @@ def _pairs_in_sweep(lo: np.ndarray, hi: np.ndarray) -> tuple[np.ndarray, np.ndar
     small = np.flatnonzero(cells <= 16)
     pa, pb = [], []
     for k in big:  # few: each against every box
-        hit = np.flatnonzero((lo[:, 0] < hi[k, 0]) & (lo[k, 0] < hi[:, 0]) & (lo[:, 1] < hi[k, 1]) & (lo[k, 1] < hi[:, 1]))
+        hit = np.flatnonzero(
+            (lo[:, 0] < hi[k, 0]) & (lo[k, 0] < hi[:, 0]) & (lo[:, 1] < hi[k, 1]) & (lo[k, 1] < hi[:, 1])
+        )
         hit = hit[hit != k]
         pa.append(np.minimum(hit, k))
         pb.append(np.maximum(hit, k))

@@ -132,9 +132,11 @@ def _sweep(fs, rho, e, tol, max_iter, *, gauss_seidel: bool):
         b = new
         if done:
             return b, it
-    raise ValueError(f"radiosity {'gauss-seidel' if gauss_seidel else 'jacobi'} did not reach tol {tol:g} in "
-                     f"{max_iter} sweeps (residual {_residual(b, e + rho * np.asarray(fs @ b)):.2e}); "
-                     "raise max_iter or use method='direct'")
+    raise ValueError(
+        f"radiosity {'gauss-seidel' if gauss_seidel else 'jacobi'} did not reach tol {tol:g} in "
+        f"{max_iter} sweeps (residual {_residual(b, e + rho * np.asarray(fs @ b)):.2e}); "
+        "raise max_iter or use method='direct'"
+    )
 
 
 def _shoot(fs, areas, rho, e, tol, max_iter):
@@ -158,8 +160,10 @@ def _shoot(fs, areas, rho, e, tol, max_iter):
         unshot[j] += gain
         power[i] = 0.0
         power[j] = areas[j] * unshot[j].sum(axis=1)
-    raise ValueError(f"radiosity shooting did not reach tol {tol:g} in {limit} shots "
-                     f"(unshot {np.abs(unshot).max() / np.abs(b).max():.2e}); use method='direct'")
+    raise ValueError(
+        f"radiosity shooting did not reach tol {tol:g} in {limit} shots "
+        f"(unshot {np.abs(unshot).max() / np.abs(b).max():.2e}); use method='direct'"
+    )
 
 
 # --------------------------------------------------------------------------------------

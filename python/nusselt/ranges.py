@@ -25,8 +25,10 @@ def check_coordinates(points: np.ndarray, what: str) -> None:
         return
     big = float(np.max(np.abs(points)))
     if big > MAX_COORDINATE:
-        raise ValueError(f"{what}: a coordinate of {big:.3g} is beyond ±{MAX_COORDINATE:.0e}, where areas and "
-                         f"squared distances overflow double precision; {_HINT}")
+        raise ValueError(
+            f"{what}: a coordinate of {big:.3g} is beyond ±{MAX_COORDINATE:.0e}, where areas and "
+            f"squared distances overflow double precision; {_HINT}"
+        )
 
 
 def check_extent(points: np.ndarray, what: str) -> None:
@@ -36,5 +38,7 @@ def check_extent(points: np.ndarray, what: str) -> None:
         return
     extent = float(np.max(points.max(axis=0) - points.min(axis=0)))
     if 0 < extent < MIN_EXTENT:
-        raise ValueError(f"{what}: its size {extent:.3g} is below {MIN_EXTENT:.0e}, where areas and squared "
-                         f"distances underflow double precision; {_HINT}")
+        raise ValueError(
+            f"{what}: its size {extent:.3g} is below {MIN_EXTENT:.0e}, where areas and squared "
+            f"distances underflow double precision; {_HINT}"
+        )

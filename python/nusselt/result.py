@@ -87,7 +87,7 @@ class FormFactors:
         """max_ij |A_i F_ij - A_j F_ji| / max(A_i F_ij, A_j F_ji), over nonzero pairs."""
         return self._measures()["reciprocity_error"]
 
-    def by_surface(self) -> "FormFactors":
+    def by_surface(self) -> FormFactors:
         """The same result aggregated to named surfaces with the form-factor algebra:
         additivity over receivers and area-weighted composition of sources,
         F_(S->T) = sum_{i in S, j in T} A_i F_ij / sum_{i in S} A_i."""
@@ -152,8 +152,9 @@ class FormFactors:
         if self.lost is not None and len(self.lost):
             lines.append(f"largest unassigned hemisphere fraction of a row = {np.max(self.lost):.3e}")
         if self.info.get("dropped"):
-            lines.append(f"largest row mass dropped by the threshold {self.info.get('threshold'):g} = "
-                         f"{self.info['dropped']:.3e}")
+            lines.append(
+                f"largest row mass dropped by the threshold {self.info.get('threshold'):g} = {self.info['dropped']:.3e}"
+            )
         if len(self) <= 12:
             f = self.dense()
             w = max(8, max(len(n) for n in self.names))

@@ -73,8 +73,9 @@ def _face_mask(sel, nf: int, what: str) -> np.ndarray:
     if a.dtype.kind not in "iu":
         raise TypeError(f"{what}: give a bool per face or integer face indices, got {a.dtype} values")
     if a.min() < -nf or a.max() >= nf:
-        raise ValueError(f"{what}: face index {int(a.max() if a.max() >= nf else a.min())} out of range "
-                         f"(the scene has {nf} faces)")
+        raise ValueError(
+            f"{what}: face index {int(a.max() if a.max() >= nf else a.min())} out of range (the scene has {nf} faces)"
+        )
     m = np.zeros(nf, dtype=bool)
     m[a] = True
     return m
@@ -133,8 +134,10 @@ class Scene:
 
     def __setattr__(self, name, value):
         if self._frozen_now:
-            raise AttributeError(f"a Scene is immutable (cannot set {name!r}): build a new one with "
-                                 "with_obstruction, with_surfaces, with_emissivity, with_two_sided, ...")
+            raise AttributeError(
+                f"a Scene is immutable (cannot set {name!r}): build a new one with "
+                "with_obstruction, with_surfaces, with_emissivity, with_two_sided, ..."
+            )
         object.__setattr__(self, name, value)
 
     def __init__(
@@ -201,8 +204,10 @@ class Scene:
         two = np.zeros(nf, dtype=bool) if two_sided is None else _face_mask(two_sided, nf, f"{where}two_sided")
         if (two & obst).any():
             k = int(np.flatnonzero(two & obst)[0])
-            raise ValueError(f"{where}{self._face_label(k)} is obstruction-only and two-sided: obstructions "
-                             "block from both sides already and get no row; make it one or the other")
+            raise ValueError(
+                f"{where}{self._face_label(k)} is obstruction-only and two-sided: obstructions "
+                "block from both sides already and get no row; make it one or the other"
+            )
         emis = None if emissivity is None else np.asarray(emissivity, dtype=np.float64)
         if not (isinstance(planarity_tol, (int, float, np.floating, np.integer))):
             raise TypeError(f"planarity_tol must be a number, got {planarity_tol!r}")
@@ -216,9 +221,11 @@ class Scene:
         if degenerate.any():
             if not repair:
                 k = int(np.flatnonzero(degenerate)[0])
-                raise ValueError(f"{where}{self._face_label(k)} {errors[k]}"
-                                 + (f" ({int(degenerate.sum())} faces have no area)" if degenerate.sum() > 1 else "")
-                                 + "; repair=True (nusselt matrix --repair) drops faces without area")
+                raise ValueError(
+                    f"{where}{self._face_label(k)} {errors[k]}"
+                    + (f" ({int(degenerate.sum())} faces have no area)" if degenerate.sum() > 1 else "")
+                    + "; repair=True (nusselt matrix --repair) drops faces without area"
+                )
             keep &= ~degenerate
             dropped["zero area"] = np.flatnonzero(degenerate).tolist()
         for k, msg in enumerate(errors):
@@ -234,15 +241,22 @@ class Scene:
         flipped = kept[report["flipped"]]
         for k, f in zip(kept, oriented):
             face_list[k] = f
-        orient_info = {"orient": orient, "flipped": flipped.tolist(), "open_faces": int(len(report["open"])),
-                       "shells": int(report.get("shells", 0))}
+        orient_info = {
+            "orient": orient,
+            "flipped": flipped.tolist(),
+            "open_faces": int(len(report["open"])),
+            "shells": int(report.get("shells", 0)),
+        }
         if orient == "as-is" and len(report.get("outward_enclosure", ())):
             enc = kept[report["outward_enclosure"]]
             warnings.warn(
                 f"{where}{len(enc)} faces ({self._face_label(int(enc[0]))}, ...) form a closed shell whose "
                 "fronts face outward while it holds every other face: seen from outside it sees nothing, so "
                 "its rows will be 0. Rooms must face inward: use orient='auto' or 'inward' (nusselt matrix "
-                "--orient inward)", OrientationWarning, stacklevel=2)
+                "--orient inward)",
+                OrientationWarning,
+                stacklevel=2,
+            )
 
         if orient == "as-is" and len(report.get("inconsistent", ())):
             bad = kept[report["inconsistent"]]
@@ -250,7 +264,9 @@ class Scene:
                 f"{where}{len(bad)} faces ({self._face_label(int(bad[0]))}, ...) of a closed mesh face against "
                 "their neighbours (each of their edges is run the same way by the next face): they are "
                 "probably reversed; orient='auto', 'inward' or 'outward' makes the mesh consistent",
-                OrientationWarning, stacklevel=2)
+                OrientationWarning,
+                stacklevel=2,
+            )
         if len(flipped) or not keep.all():
             core = None
         if not keep.all():
@@ -266,17 +282,24 @@ class Scene:
         recv = np.flatnonzero(~obst)
         pairs = coplanar_overlaps(v, face_list, normals, centroids, core.triangulate, recv)
         if pairs:
-            covered = [j if ov >= (1 - 1e-6) * areas[j] else i for i, j, ov in pairs
-                       if ov >= (1 - 1e-6) * min(areas[i], areas[j])]
+            covered = [
+                j if ov >= (1 - 1e-6) * areas[j] else i
+                for i, j, ov in pairs
+                if ov >= (1 - 1e-6) * min(areas[i], areas[j])
+            ]
             partial = [(i, j, ov) for i, j, ov in pairs if ov < (1 - 1e-6) * min(areas[i], areas[j])]
             if not repair or partial:
                 i, j, ov = (partial or pairs)[0]
-                hint = ("; repair=True (nusselt matrix --repair) drops faces that duplicate another"
-                        if not partial else "; repair drops only faces covered whole by another: fix the mesh")
+                hint = (
+                    "; repair=True (nusselt matrix --repair) drops faces that duplicate another"
+                    if not partial
+                    else "; repair drops only faces covered whole by another: fix the mesh"
+                )
                 raise ValueError(
                     f"{where}{self._face_label(i)} and {self._face_label(j)} lie in one plane, face the same way "
                     f"and overlap ({ov / min(areas[i], areas[j]):.3g} of the smaller one): each would be counted, "
-                    f"so rows would sum to more than 1 ({len(pairs)} such pairs){hint}")
+                    f"so rows would sum to more than 1 ({len(pairs)} such pairs){hint}"
+                )
             drop = np.unique(covered)
             back = kept if not keep.all() else np.arange(nf)
             dropped["duplicate"] = back[drop].tolist()
@@ -288,11 +311,16 @@ class Scene:
             normals = np.asarray(core.normals())
             centroids = np.asarray(core.centroids())
         if dropped:
-            what = ", ".join(f"{len(ks)} with {w}" if w == "zero area" else f"{len(ks)} duplicates of another face"
-                             for w, ks in dropped.items())
-            warnings.warn(f"{where}repair dropped {sum(map(len, dropped.values()))} of {nf} faces ({what}); "
-                          "face numbers now count the faces kept (meta['repair'] lists the dropped ones)",
-                          RepairWarning, stacklevel=2)
+            what = ", ".join(
+                f"{len(ks)} with {w}" if w == "zero area" else f"{len(ks)} duplicates of another face"
+                for w, ks in dropped.items()
+            )
+            warnings.warn(
+                f"{where}repair dropped {sum(map(len, dropped.values()))} of {nf} faces ({what}); "
+                "face numbers now count the faces kept (meta['repair'] lists the dropped ones)",
+                RepairWarning,
+                stacklevel=2,
+            )
 
         self.vertices = _frozen(v)
         self.faces = _FrozenList(_frozen(f) for f in face_list)
@@ -325,7 +353,7 @@ class Scene:
 
     # --- constructors -------------------------------------------------------------------
     @classmethod
-    def from_polygons(cls, polygons, *, surface=None, names=None, obstruction=None, **kw) -> "Scene":
+    def from_polygons(cls, polygons, *, surface=None, names=None, obstruction=None, **kw) -> Scene:
         """A scene from a list of (n, 3) vertex arrays."""
         polys = [np.asarray(p, dtype=np.float64) for p in polygons]
         for k, p in enumerate(polys):
@@ -338,8 +366,9 @@ class Scene:
         return cls(verts, faces, surface=surface, names=names, obstruction=obstruction, **kw)
 
     @classmethod
-    def from_file(cls, path: str | os.PathLike, *, format: str | None = None, orient: str = "auto",
-                  repair: bool = False, **kw) -> "Scene":
+    def from_file(
+        cls, path: str | os.PathLike, *, format: str | None = None, orient: str = "auto", repair: bool = False, **kw
+    ) -> Scene:
         """Reads OBJ (objects/groups become surfaces), View3D ``.vs3`` and every mesh format
         meshio reads. Parse errors are ``ValueError`` naming the file and line or element.
         ``orient`` and ``repair`` are as for :class:`Scene`."""
@@ -362,32 +391,39 @@ class Scene:
         )
 
     # --- changed copies -------------------------------------------------------------------
-    def _replace(self, **changes) -> "Scene":
+    def _replace(self, **changes) -> Scene:
         """A new Scene with some constructor arguments changed (orientation as it is now)."""
         args = dict(
-            surface=self.surface, names=self.surface_names, obstruction=self.obstruction,
-            emissivity=self.emissivity, two_sided=self.two_sided, planarity_tol=self.planarity_tol,
-            source=self.source, origin=self._origin, meta=self.meta, orient="as-is",
+            surface=self.surface,
+            names=self.surface_names,
+            obstruction=self.obstruction,
+            emissivity=self.emissivity,
+            two_sided=self.two_sided,
+            planarity_tol=self.planarity_tol,
+            source=self.source,
+            origin=self._origin,
+            meta=self.meta,
+            orient="as-is",
         )
         vertices = changes.pop("vertices", self.vertices)
         faces = changes.pop("faces", self.faces)
         args.update(changes)
         return Scene(vertices, faces, **args)
 
-    def with_obstruction(self, obstruction) -> "Scene":
+    def with_obstruction(self, obstruction) -> Scene:
         """The same scene with other obstruction-only faces: a bool per face, or face indices."""
         return self._replace(obstruction=_face_mask(obstruction, len(self), "obstruction"))
 
-    def with_two_sided(self, two_sided) -> "Scene":
+    def with_two_sided(self, two_sided) -> Scene:
         """The same scene with other two-sided faces: a bool per face, or face indices."""
         return self._replace(two_sided=_face_mask(two_sided, len(self), "two_sided"))
 
-    def with_surfaces(self, surface, names: Sequence[str] | None = None) -> "Scene":
+    def with_surfaces(self, surface, names: Sequence[str] | None = None) -> Scene:
         """The same polygons grouped into other named surfaces (``surface`` as for the
         constructor). Emissivities are per named surface and are dropped."""
         return self._replace(surface=surface, names=names, emissivity=None)
 
-    def with_emissivity(self, emissivity) -> "Scene":
+    def with_emissivity(self, emissivity) -> Scene:
         """The same scene with an emissivity per named surface (None for none)."""
         if emissivity is not None:
             e = np.asarray(emissivity, dtype=np.float64).ravel()
@@ -396,7 +432,7 @@ class Scene:
             emissivity = e
         return self._replace(emissivity=emissivity)
 
-    def with_vertices(self, vertices) -> "Scene":
+    def with_vertices(self, vertices) -> Scene:
         """The same faces on moved vertices (same count); orientation is kept as given."""
         v = np.asarray(vertices, dtype=np.float64)
         if v.shape != self.vertices.shape:
@@ -423,7 +459,7 @@ class Scene:
         """Indices of the faces that get rows and columns (all but obstruction-only)."""
         return np.flatnonzero(~self.obstruction)
 
-    def scaled(self, factor: float) -> "Scene":
+    def scaled(self, factor: float) -> Scene:
         """The same scene with every length multiplied by ``factor`` (F is unchanged).
 
         ``factor`` must be positive: a negative factor mirrors the scene through the origin,
@@ -432,11 +468,13 @@ class Scene:
         if isinstance(factor, (bool, np.bool_)) or not isinstance(factor, (int, float, np.integer, np.floating)):
             raise TypeError(f"factor must be a number, got {factor!r}")
         if not (np.isfinite(factor) and factor > 0):
-            raise ValueError(f"factor must be positive and finite, got {factor!r} (a negative factor would "
-                             "mirror the scene and turn every face around)")
+            raise ValueError(
+                f"factor must be positive and finite, got {factor!r} (a negative factor would "
+                "mirror the scene and turn every face around)"
+            )
         return self._replace(vertices=self.vertices * float(factor))
 
-    def refined(self, max_edge: float) -> "Scene":
+    def refined(self, max_edge: float) -> Scene:
         """A finer mesh of the same surfaces: every quadrilateral split bilinearly into k x m
         quads and every other polygon fan-triangulated and each triangle split into k^2, so
         that no edge is longer than ``max_edge``. Surface names and obstruction flags carry over."""
@@ -461,11 +499,18 @@ class Scene:
                 bil = lambda a, b: (1 - a) * (1 - b) * v[0] + a * (1 - b) * v[1] + a * b * v[2] + (1 - a) * b * v[3]
                 for i in range(nu):
                     for j in range(nv):
-                        emit(np.array([bil(s[i], t[j]), bil(s[i + 1], t[j]), bil(s[i + 1], t[j + 1]), bil(s[i], t[j + 1])]), k)
+                        emit(
+                            np.array(
+                                [bil(s[i], t[j]), bil(s[i + 1], t[j]), bil(s[i + 1], t[j + 1]), bil(s[i], t[j + 1])]
+                            ),
+                            k,
+                        )
                 continue
             for tri in self._core.triangulate(k):
                 a, b, c = v[tri[0]], v[tri[1]], v[tri[2]]
-                n = max(1, int(np.ceil(max(np.linalg.norm(b - a), np.linalg.norm(c - b), np.linalg.norm(a - c)) / max_edge)))
+                n = max(
+                    1, int(np.ceil(max(np.linalg.norm(b - a), np.linalg.norm(c - b), np.linalg.norm(a - c)) / max_edge))
+                )
                 at = lambda i, j: a + (b - a) * (i / n) + (c - a) * (j / n)
                 for i in range(n):
                     for j in range(n - i):
@@ -473,9 +518,16 @@ class Scene:
                         if i + j + 1 < n:
                             emit(np.array([at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)]), k)
         return Scene.from_polygons(
-            polys, surface=surf, names=self.surface_names, obstruction=obst, emissivity=self.emissivity,
-            two_sided=np.array(two, dtype=bool), planarity_tol=self.planarity_tol, source=self.source,
-            meta=self.meta, orient="as-is",
+            polys,
+            surface=surf,
+            names=self.surface_names,
+            obstruction=obst,
+            emissivity=self.emissivity,
+            two_sided=np.array(two, dtype=bool),
+            planarity_tol=self.planarity_tol,
+            source=self.source,
+            meta=self.meta,
+            orient="as-is",
         )
 
     def _face_label(self, k: int) -> str:

@@ -14,7 +14,8 @@ kelvin.
 
 from __future__ import annotations
 
-from typing import Literal, Mapping, Sequence
+from collections.abc import Mapping
+from typing import Literal
 
 import numpy as np
 import scipy.sparse as sp
@@ -133,7 +134,9 @@ def point_view_factors(
     return f, _assemble(scene, std_parts, len(p), dense, False)
 
 
-def sphere_view_factors(points, scene: Scene, *, obstructed: bool = True, by_surface: bool = False, dense: bool = False):
+def sphere_view_factors(
+    points, scene: Scene, *, obstructed: bool = True, by_surface: bool = False, dense: bool = False
+):
     """F from a small sphere at each point to every receiving patch: the solid angle of the
     patch's visible part over 4 pi (exact; equal to the mean of the plane element's F over
     all normal directions). Shapes and column order as :func:`point_view_factors`."""
@@ -163,7 +166,9 @@ def _surface_t4(scene: Scene, temperatures) -> tuple[np.ndarray, list[str]]:
     return t4, missing
 
 
-def radiant_temperature(f_surface, scene: Scene, temperatures, *, rest: float | None = None, closure_tol: float = 1e-6) -> np.ndarray:
+def radiant_temperature(
+    f_surface, scene: Scene, temperatures, *, rest: float | None = None, closure_tol: float = 1e-6
+) -> np.ndarray:
     """Radiant temperature seen by each sensor: T = (sum_j F_j T_j^4 + (1 - sum_j F_j) T_rest^4)^(1/4).
 
     ``f_surface`` is a (P, n_surfaces) matrix (``by_surface=True``) of plane elements (the
@@ -240,15 +245,24 @@ def mean_radiant_temperature(
         return radiant_temperature(f, scene, temperatures, rest=rest)
     if form not in ISO7726_WEIGHTS:
         raise ValueError(f"form must be 'sphere', 'standing' or 'seated', got {form!r}")
-    t = plane_radiant_temperatures(p, scene, temperatures, front=front, up=up, rest=rest, obstructed=obstructed, method=method)
+    t = plane_radiant_temperatures(
+        p, scene, temperatures, front=front, up=up, rest=rest, obstructed=obstructed, method=method
+    )
     w_ud, w_lr, w_fb = ISO7726_WEIGHTS[form]
     w = {"up": w_ud, "down": w_ud, "left": w_lr, "right": w_lr, "front": w_fb, "back": w_fb}
     return sum(w[d] * t[d] for d in _SIX) / sum(w.values())
 
 
 def plane_radiant_temperatures(
-    points, scene: Scene, temperatures, *, front=(1.0, 0.0, 0.0), up=(0.0, 0.0, 1.0), rest: float | None = None,
-    obstructed: bool = True, method: str = "auto",
+    points,
+    scene: Scene,
+    temperatures,
+    *,
+    front=(1.0, 0.0, 0.0),
+    up=(0.0, 0.0, 1.0),
+    rest: float | None = None,
+    obstructed: bool = True,
+    method: str = "auto",
 ) -> dict[str, np.ndarray]:
     """The six plane radiant temperatures (kelvin) at each point, by direction name
     (:func:`six_directions`), all in one core call."""
@@ -257,7 +271,7 @@ def plane_radiant_temperatures(
     normals = np.concatenate([np.repeat(dirs[d][None, :], len(p), axis=0) for d in _SIX])
     f = point_view_factors(np.tile(p, (6, 1)), normals, scene, by_surface=True, obstructed=obstructed, method=method)
     t = radiant_temperature(f, scene, temperatures, rest=rest)
-    return {d: t[k * len(p):(k + 1) * len(p)] for k, d in enumerate(_SIX)}
+    return {d: t[k * len(p) : (k + 1) * len(p)] for k, d in enumerate(_SIX)}
 
 
 def read_points_csv(path) -> tuple[np.ndarray, np.ndarray]:

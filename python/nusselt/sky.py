@@ -46,7 +46,8 @@ def sky_view_factors(scene_or_result, *, order: int = 6) -> np.ndarray:
     The point value is smooth inside a patch, but its derivative is singular along edges the
     patch shares with another polygon (a wall standing on a floor patch), where Gauss rules
     converge slowly: on a canyon of 0.5 m patches the largest error against exact rows was
-    1e-4 at order 4, 2.3e-5 at 6, 3.5e-6 at 10, 5.8e-7 at 16. Given a :class:`~nusselt.FormFactors` result: ``1 - row sums`` (see the module
+    1e-4 at order 4, 2.3e-5 at 6, 3.5e-6 at 10, 5.8e-7 at 16. Given a :class:`~nusselt.FormFactors` result:
+    ``1 - row sums`` (see the module
     docstring for when that is right).
     """
     if isinstance(scene_or_result, Scene):
@@ -164,7 +165,9 @@ def unobstructed_patch_factors(normals, sky: SkyPatches | None = None, *, nodes:
     n = _unit(_rows(normals, "normals"))
     step = max(1, 400_000 // (len(sky) * nodes))
     if len(n) > step:
-        return np.concatenate([unobstructed_patch_factors(n[s:s + step], sky, nodes=nodes) for s in range(0, len(n), step)])
+        return np.concatenate(
+            [unobstructed_patch_factors(n[s : s + step], sky, nodes=nodes) for s in range(0, len(n), step)]
+        )
     u, wu = _gauss(nodes)
     rho = np.hypot(n[:, 0], n[:, 1])[:, None, None]
     azn = np.arctan2(n[:, 0], n[:, 1])[:, None, None]  # azimuth of the normal, from north
@@ -173,13 +176,25 @@ def unobstructed_patch_factors(normals, sky: SkyPatches | None = None, *, nodes:
     x1 = sky.az_hi[None, :, None]
     # Altitudes where the element's horizon n.d = 0 meets the patch's meridians or has its
     # extremes (azimuths azn, azn + pi): the integrand over altitude is smooth between them.
-    azs = np.concatenate([np.broadcast_to(x0, (len(n), len(sky), 1)), np.broadcast_to(x1, (len(n), len(sky), 1)),
-                          np.broadcast_to(azn, (len(n), len(sky), 1)), np.broadcast_to(azn + np.pi, (len(n), len(sky), 1))], axis=2)
+    azs = np.concatenate(
+        [
+            np.broadcast_to(x0, (len(n), len(sky), 1)),
+            np.broadcast_to(x1, (len(n), len(sky), 1)),
+            np.broadcast_to(azn, (len(n), len(sky), 1)),
+            np.broadcast_to(azn + np.pi, (len(n), len(sky), 1)),
+        ],
+        axis=2,
+    )
     with np.errstate(divide="ignore", invalid="ignore"):
         brk = np.arctan(-rho * np.cos(azs - azn) / nz)
     lo, hi = sky.alt_lo[None, :, None], sky.alt_hi[None, :, None]
     brk = np.clip(np.nan_to_num(brk, nan=-np.pi), lo, hi)
-    edges = np.sort(np.concatenate([np.broadcast_to(lo, brk.shape[:2] + (1,)), brk, np.broadcast_to(hi, brk.shape[:2] + (1,))], axis=2), axis=2)
+    edges = np.sort(
+        np.concatenate(
+            [np.broadcast_to(lo, brk.shape[:2] + (1,)), brk, np.broadcast_to(hi, brk.shape[:2] + (1,))], axis=2
+        ),
+        axis=2,
+    )
     width = np.diff(edges, axis=2)  # (P, S, 5)
     alt = (edges[..., :-1, None] + width[..., None] * u).reshape(len(n), len(sky), -1)  # (P, S, 5K)
     wa = (width[..., None] * wu).reshape(alt.shape) * np.cos(alt)
@@ -204,7 +219,9 @@ def unobstructed_patch_factors(normals, sky: SkyPatches | None = None, *, nodes:
     return f
 
 
-def sky_patch_factors(points, normals, scene: Scene | None, sky: SkyPatches | None = None, *, nodes: int = 4, batch: int = 2_000_000) -> np.ndarray:
+def sky_patch_factors(
+    points, normals, scene: Scene | None, sky: SkyPatches | None = None, *, nodes: int = 4, batch: int = 2_000_000
+) -> np.ndarray:
     """F from plane elements at ``points`` (unit ``normals``) to each sky patch, obstructed by
     the polygons of ``scene`` (None: unobstructed). Shape (P, n_patches).
 
@@ -229,19 +246,21 @@ def sky_patch_factors(points, normals, scene: Scene | None, sky: SkyPatches | No
     out = np.empty_like(free)
     step = max(1, batch // per)
     for s in range(0, len(p), step):
-        ps, ns = p[s:s + step], n[s:s + step]
+        ps, ns = p[s : s + step], n[s : s + step]
         cos = np.clip(ns @ dflat.T, 0.0, None)  # (B, S*K)
         origins = np.repeat(ps, per, axis=0)
         dirs = np.tile(dflat, (len(ps), 1))
         lit = cos > 0
         blocked = np.zeros(cos.shape, dtype=bool)
         if lit.any():
-            blocked[lit] = scene._core.rays_blocked(np.ascontiguousarray(origins[lit.ravel()]), np.ascontiguousarray(dirs[lit.ravel()]))
+            blocked[lit] = scene._core.rays_blocked(
+                np.ascontiguousarray(origins[lit.ravel()]), np.ascontiguousarray(dirs[lit.ravel()])
+            )
         wk = (cos * w.reshape(1, -1)).reshape(len(ps), len(sky), -1)
         total = wk.sum(axis=2)
         seen = np.where(blocked.reshape(wk.shape), 0.0, wk).sum(axis=2)
         frac = np.divide(seen, total, out=np.zeros_like(seen), where=total > 0)
-        out[s:s + step] = free[s:s + step] * frac
+        out[s : s + step] = free[s : s + step] * frac
     return out
 
 
@@ -270,7 +289,9 @@ def patch_quadrature(scene: Scene, order: int = 3) -> tuple[np.ndarray, np.ndarr
     return np.concatenate(pts), np.concatenate(wts), np.concatenate(col)
 
 
-def sky_patch_factors_patches(scene: Scene, sky: SkyPatches | None = None, *, order: int = 3, nodes: int = 4) -> np.ndarray:
+def sky_patch_factors_patches(
+    scene: Scene, sky: SkyPatches | None = None, *, order: int = 3, nodes: int = 4
+) -> np.ndarray:
     """F from every receiving patch (rows in the order of ``scene.receivers``) to each sky
     patch, obstructed by the scene: :func:`sky_patch_factors` at the points of
     :func:`patch_quadrature` (each with its patch's normal), area-weighted. The points lie on

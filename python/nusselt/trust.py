@@ -51,8 +51,7 @@ def reciprocity_error(matrix, areas: np.ndarray) -> float:
 
 def _band_error(rows: sp.csr_array, cols: sp.csr_array, a: np.ndarray, s: int) -> float:
     n_band = rows.shape[0]
-    if (rows.nnz == cols.nnz and np.array_equal(rows.indptr, cols.indptr)
-            and np.array_equal(rows.indices, cols.indices)):
+    if rows.nnz == cols.nnz and np.array_equal(rows.indptr, cols.indptr) and np.array_equal(rows.indices, cols.indices):
         # the usual case, a symmetric pattern: compare entry by entry
         r = np.repeat(np.arange(s, s + n_band), np.diff(rows.indptr))
         g1 = rows.data * a[r]  # A_i F_ij, i in the band
@@ -60,7 +59,7 @@ def _band_error(rows: sp.csr_array, cols: sp.csr_array, a: np.ndarray, s: int) -
         den = np.maximum(np.abs(g1), np.abs(g2))
         ok = den > 0
         return float(np.max(np.abs(g1 - g2)[ok] / den[ok])) if ok.any() else 0.0
-    g1 = sp.csr_array(rows.multiply(a[s:s + n_band, None]))
+    g1 = sp.csr_array(rows.multiply(a[s : s + n_band, None]))
     g2 = sp.csr_array(cols.multiply(a[None, :]))
     diff = abs(g1 - g2).tocoo()
     scale = sp.csr_array(abs(g1).maximum(abs(g2)))
@@ -69,4 +68,3 @@ def _band_error(rows: sp.csr_array, cols: sp.csr_array, a: np.ndarray, s: int) -
     den = np.asarray(scale[diff.row, diff.col]).ravel()
     ok = den > 0
     return float(np.max(diff.data[ok] / den[ok])) if ok.any() else 0.0
-

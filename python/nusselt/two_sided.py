@@ -32,11 +32,17 @@ def one_sided(scene: Scene) -> tuple[Scene, np.ndarray]:
     if scene._origin is not None:
         origin = list(scene._origin) + [f"{scene._origin[k]}, back" for k in two]
     expanded = Scene(
-        scene.vertices, faces,
-        surface=np.concatenate([scene.surface, scene.surface[two]]), names=scene.surface_names,
+        scene.vertices,
+        faces,
+        surface=np.concatenate([scene.surface, scene.surface[two]]),
+        names=scene.surface_names,
         obstruction=np.concatenate([scene.obstruction, np.zeros(len(two), dtype=bool)]),
-        emissivity=scene.emissivity, planarity_tol=scene.planarity_tol, source=scene.source,
-        origin=origin, meta=scene.meta, orient="as-is",
+        emissivity=scene.emissivity,
+        planarity_tol=scene.planarity_tol,
+        source=scene.source,
+        origin=origin,
+        meta=scene.meta,
+        orient="as-is",
     )
     return expanded, np.concatenate([np.arange(nf), two])
 
@@ -61,8 +67,15 @@ def join_sides(res: FormFactors, owner: np.ndarray, scene: Scene, dense: bool) -
     lost = None if res.lost is None else (s.T @ (res.lost * res.areas)) / a
     names = [f"{scene.surface_names[scene.surface[k]]}[{k}]" for k in recv]
     return dataclasses.replace(
-        res, matrix=f.toarray() if dense else f, areas=a, names=names, faces=recv,
-        surface=scene.surface[recv], surface_names=scene.surface_names, std_err=std, lost=lost,
+        res,
+        matrix=f.toarray() if dense else f,
+        areas=a,
+        names=names,
+        faces=recv,
+        surface=scene.surface[recv],
+        surface_names=scene.surface_names,
+        std_err=std,
+        lost=lost,
         info={**res.info, "two_sided": np.flatnonzero(scene.two_sided[recv]).tolist()},
     )
 

@@ -40,8 +40,10 @@ def zone_faces(scene: Scene) -> dict[str, np.ndarray]:
     meta = scene.meta or {}
     surface_zone = meta.get("surface_zone")
     if not surface_zone:
-        raise ValueError(f"{scene.source or 'scene'}: the scene has no zones (only building models, "
-                         "e.g. EnergyPlus .idf / .epJSON files, have them)")
+        raise ValueError(
+            f"{scene.source or 'scene'}: the scene has no zones (only building models, "
+            "e.g. EnergyPlus .idf / .epJSON files, have them)"
+        )
     zone_of_face = np.array([surface_zone[s] for s in scene.surface], dtype=object)
     return {z: np.flatnonzero(zone_of_face == z) for z in scene_zones(scene)}
 
@@ -50,9 +52,18 @@ def zone_scene(scene: Scene, faces: np.ndarray) -> Scene:
     """A scene of the given faces only (same vertices, names and tolerances)."""
     faces = np.asarray(faces, dtype=np.int64)
     origin = [scene._origin[k] for k in faces] if scene._origin is not None else None
-    return Scene(scene.vertices, [scene.faces[k] for k in faces], surface=scene.surface[faces],
-                 names=scene.surface_names, obstruction=scene.obstruction[faces], emissivity=scene.emissivity,
-                 planarity_tol=scene.planarity_tol, source=scene.source, origin=origin, meta=scene.meta)
+    return Scene(
+        scene.vertices,
+        [scene.faces[k] for k in faces],
+        surface=scene.surface[faces],
+        names=scene.surface_names,
+        obstruction=scene.obstruction[faces],
+        emissivity=scene.emissivity,
+        planarity_tol=scene.planarity_tol,
+        source=scene.source,
+        origin=origin,
+        meta=scene.meta,
+    )
 
 
 def zone_form_factors(scene: Scene, *, zones: list[str] | None = None, checkpoint=None, **kwargs) -> FormFactors:
@@ -71,7 +82,7 @@ def zone_form_factors(scene: Scene, *, zones: list[str] | None = None, checkpoin
     if not chosen:
         raise ValueError(f"{scene.source or 'scene'}: no zones to compute")
     parts = []
-    for k, z in enumerate(chosen):
+    for z in chosen:
         faces = by_zone[z]
         sub = zone_scene(scene, faces)
         ck = None
@@ -86,8 +97,12 @@ def zone_form_factors(scene: Scene, *, zones: list[str] | None = None, checkpoin
     matrix = sp.csr_array(sp.block_diag(blocks, format="csr"))[order][:, order]
     std = None
     if any(r.std_err is not None for _, _, r in parts):
-        std = sp.csr_array(sp.block_diag([r.std_err if r.std_err is not None else sp.csr_array(r.matrix.shape)
-                                          for _, _, r in parts], format="csr"))[order][:, order]
+        std = sp.csr_array(
+            sp.block_diag(
+                [r.std_err if r.std_err is not None else sp.csr_array(r.matrix.shape) for _, _, r in parts],
+                format="csr",
+            )
+        )[order][:, order]
     lost = None
     if any(r.lost is not None for _, _, r in parts):
         lost = np.concatenate([r.lost if r.lost is not None else np.zeros(len(r)) for _, _, r in parts])[order]
@@ -99,6 +114,15 @@ def zone_form_factors(scene: Scene, *, zones: list[str] | None = None, checkpoin
     info = dict(first.info)
     info["zones"] = chosen
     info["dropped"] = max(float(r.info.get("dropped", 0.0)) for _, _, r in parts)
-    return FormFactors(matrix.toarray() if dense else matrix, areas, names, faces, first.method,
-                       surface=scene.surface[faces], surface_names=scene.surface_names, std_err=std, lost=lost,
-                       info=info)
+    return FormFactors(
+        matrix.toarray() if dense else matrix,
+        areas,
+        names,
+        faces,
+        first.method,
+        surface=scene.surface[faces],
+        surface_names=scene.surface_names,
+        std_err=std,
+        lost=lost,
+        info=info,
+    )

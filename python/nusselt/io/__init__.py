@@ -17,9 +17,9 @@ import os
 
 from .energyplus import read_energyplus, read_user_view_factors, write_user_view_factors
 from .meshes import read_mesh
-from .topology import orient_faces
 from .obj import read_obj
 from .scenedata import SceneData
+from .topology import orient_faces
 from .view3d import read_view3d, read_view3d_output
 from .writers import (
     load_npz,
@@ -61,7 +61,6 @@ def _read_by_format(path, format: str | None = None) -> SceneData:
     return read_mesh(path)
 
 
-
 def read_scene(path, format: str | None = None, orient: str = "as-is") -> SceneData:
     """Read a scene file (see :func:`_read_by_format` for the formats and ``format``).
 
@@ -73,12 +72,14 @@ def read_scene(path, format: str | None = None, orient: str = "as-is") -> SceneD
         data = _read_by_format(path, format)
     except MemoryError as e:
         size = os.path.getsize(path) if os.path.exists(path) else 0
-        raise MemoryError(f"{path}: not enough memory to read this {size / 2**20:.0f} MiB file"
-                          + (f" ({e})" if str(e) else "")) from None
+        raise MemoryError(
+            f"{path}: not enough memory to read this {size / 2**20:.0f} MiB file" + (f" ({e})" if str(e) else "")
+        ) from None
     if orient != "as-is":
         data.faces, report = orient_faces(data.vertices, data.faces, orient)
         data.meta["orient"] = {"orient": orient, "flipped": report["flipped"].tolist()}
     return data
+
 
 __all__ = [
     "SceneData",

@@ -95,7 +95,9 @@ def _clean(poly: np.ndarray, tol: float) -> np.ndarray:
         n = len(pts)
         for i in range(n):
             a, b, c = pts[i - 1], pts[i], pts[(i + 1) % n]
-            if np.linalg.norm(b - a) <= tol or abs((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])) <= tol * np.linalg.norm(c - a):
+            if np.linalg.norm(b - a) <= tol or abs(
+                (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
+            ) <= tol * np.linalg.norm(c - a):
                 del pts[i]
                 changed = True
                 break

@@ -62,8 +62,13 @@ from .view3d import local_plane_axes
 
 OBJECT = "ZoneProperty:UserViewFactors:BySurfaceName"
 
-_GEOMETRY_RULE_FIELDS = ["starting_vertex_position", "vertex_entry_direction", "coordinate_system",
-                         "daylighting_reference_point_coordinate_system", "rectangular_surface_coordinate_system"]
+_GEOMETRY_RULE_FIELDS = [
+    "starting_vertex_position",
+    "vertex_entry_direction",
+    "coordinate_system",
+    "daylighting_reference_point_coordinate_system",
+    "rectangular_surface_coordinate_system",
+]
 _RULE_CHOICES = {
     "starting_vertex_position": ("upperleftcorner", "lowerleftcorner", "upperrightcorner", "lowerrightcorner"),
     "vertex_entry_direction": ("counterclockwise", "clockwise"),
@@ -71,14 +76,30 @@ _RULE_CHOICES = {
     "daylighting_reference_point_coordinate_system": ("relative", "world", "absolute"),
     "rectangular_surface_coordinate_system": ("relative", "world", "absolute"),
 }
-_RULE_DEFAULTS = {"starting_vertex_position": "upperleftcorner", "vertex_entry_direction": "counterclockwise",
-                  "coordinate_system": "relative", "daylighting_reference_point_coordinate_system": "relative",
-                  "rectangular_surface_coordinate_system": "relative"}
+_RULE_DEFAULTS = {
+    "starting_vertex_position": "upperleftcorner",
+    "vertex_entry_direction": "counterclockwise",
+    "coordinate_system": "relative",
+    "daylighting_reference_point_coordinate_system": "relative",
+    "rectangular_surface_coordinate_system": "relative",
+}
 
-_DETAILED_TAIL = ["outside_boundary_condition", "outside_boundary_condition_object", "sun_exposure",
-                  "wind_exposure", "view_factor_to_ground", "number_of_vertices"]
-_RECT = ["azimuth_angle", "tilt_angle", "starting_x_coordinate", "starting_y_coordinate", "starting_z_coordinate",
-         "length"]
+_DETAILED_TAIL = [
+    "outside_boundary_condition",
+    "outside_boundary_condition_object",
+    "sun_exposure",
+    "wind_exposure",
+    "view_factor_to_ground",
+    "number_of_vertices",
+]
+_RECT = [
+    "azimuth_angle",
+    "tilt_angle",
+    "starting_x_coordinate",
+    "starting_y_coordinate",
+    "starting_z_coordinate",
+    "length",
+]
 
 # Base surfaces: IDF field layout after (name, construction, zone[, space]) and the surface type.
 _BASE = {
@@ -106,8 +127,7 @@ _SUB = {
     "GlazedDoor:Interzone": ("interzone", "GlassDoor"),
     "Door:Interzone": ("interzone", "Door"),
 }
-_KNOWN = {k.lower(): k for k in [*_BASE, *_SUB, "Zone", "Building", "GlobalGeometryRules", "Version",
-                                 "InternalMass"]}
+_KNOWN = {k.lower(): k for k in [*_BASE, *_SUB, "Zone", "Building", "GlobalGeometryRules", "Version", "InternalMass"]}
 
 
 def _idf_layouts(kind: str, version: tuple[int, int] | None) -> list[list[str]]:
@@ -136,8 +156,14 @@ def _idf_layouts(kind: str, version: tuple[int, int] | None) -> list[list[str]]:
     if kind == "InternalMass":
         return with_space(["surface_area"], ["name", "construction_name", "zone_name"])
     if kind == "FenestrationSurface:Detailed":
-        a = ["name", "surface_type", "construction_name", "building_surface_name",
-             "outside_boundary_condition_object", "view_factor_to_ground"]
+        a = [
+            "name",
+            "surface_type",
+            "construction_name",
+            "building_surface_name",
+            "outside_boundary_condition_object",
+            "view_factor_to_ground",
+        ]
         b = ["frame_and_divider_name", "multiplier", "number_of_vertices"]
         old, new = a + ["shading_control_name"] + b, a + b
         return [old, new] if shading_first else [new, old]
@@ -166,6 +192,7 @@ class _Obj:
 
 # --- IDF text ------------------------------------------------------------------------------
 
+
 def _idf_objects(path: str, text: str) -> list[tuple[int, list[str]]]:
     """(first line, fields) of every IDF object; ``!`` starts a comment, ``,`` separates fields,
     ``;`` ends an object."""
@@ -188,8 +215,11 @@ def _idf_objects(path: str, text: str) -> list[tuple[int, list[str]]]:
                     start = no
                 cur.append(piece)
     if "".join(cur).strip() or fields:
-        raise parse_error(path, f"line {start}", f"object {(fields or [''.join(cur).strip()])[0]!r} "
-                                                 "is not terminated by ';' before the end of the file")
+        raise parse_error(
+            path,
+            f"line {start}",
+            f"object {(fields or [''.join(cur).strip()])[0]!r} is not terminated by ';' before the end of the file",
+        )
     return out
 
 
@@ -243,21 +273,26 @@ def _from_idf(path: str, text: str) -> list[_Obj]:
             names = next((lay for lay in layouts if _fits(kind, lay, values)), None)
             if names is None:
                 lens = " or ".join(str(len(lay)) for lay in layouts)
-                raise parse_error(path, where, f"{kind} {values[0] if values else ''!r}: {len(values)} fields do not "
-                                               f"match its layout ({lens} fields before the vertices, or in all, "
-                                               f"for EnergyPlus {'%d.%d' % version if version else 'without a Version object'})")
+                raise parse_error(
+                    path,
+                    where,
+                    f"{kind} {values[0] if values else ''!r}: {len(values)} fields do not "
+                    f"match its layout ({lens} fields before the vertices, or in all, "
+                    f"for EnergyPlus {'{}.{}'.format(*version) if version else 'without a Version object'})",
+                )
         fields = {k: v for k, v in zip(names, values)}
         verts = None
         if (kind in _BASE and _BASE[kind][0] == "detailed") or kind == "FenestrationSurface:Detailed":
-            rest = [v for v in values[len(names):]]
+            rest = [v for v in values[len(names) :]]
             while rest and rest[-1] == "":
                 rest.pop()
-            verts = [rest[k:k + 3] for k in range(0, len(rest), 3)]
+            verts = [rest[k : k + 3] for k in range(0, len(rest), 3)]
         objs.append(_Obj(kind, fields.get("name", ""), fields, verts, where))
     return objs
 
 
 # --- epJSON --------------------------------------------------------------------------------
+
 
 def _from_epjson(path: str, text: str) -> list[_Obj]:
     try:
@@ -292,8 +327,11 @@ def _from_epjson(path: str, text: str) -> list[_Obj]:
                     try:
                         verts.append([v["vertex_x_coordinate"], v["vertex_y_coordinate"], v["vertex_z_coordinate"]])
                     except (KeyError, TypeError):
-                        raise parse_error(path, where, f"vertex {k + 1} needs vertex_x_coordinate, "
-                                                       "vertex_y_coordinate and vertex_z_coordinate") from None
+                        raise parse_error(
+                            path,
+                            where,
+                            f"vertex {k + 1} needs vertex_x_coordinate, vertex_y_coordinate and vertex_z_coordinate",
+                        ) from None
             elif kind == "FenestrationSurface:Detailed":
                 verts = []
                 for k in range(1, 5):
@@ -308,6 +346,7 @@ def _from_epjson(path: str, text: str) -> list[_Obj]:
 
 # --- geometry ------------------------------------------------------------------------------
 
+
 def _num(path, obj: _Obj, key: str, default: float | None = None) -> float:
     v = obj.fields.get(key, "")
     if v == "" or (isinstance(v, str) and v.strip().lower() in ("", "autocalculate", "autosize")):
@@ -317,7 +356,9 @@ def _num(path, obj: _Obj, key: str, default: float | None = None) -> float:
     try:
         x = float(v)
     except (TypeError, ValueError):
-        raise parse_error(path, obj.where, f"{obj.label()}: {key.replace('_', ' ')} must be a number, got {v!r}") from None
+        raise parse_error(
+            path, obj.where, f"{obj.label()}: {key.replace('_', ' ')} must be a number, got {v!r}"
+        ) from None
     if not math.isfinite(x):
         raise parse_error(path, obj.where, f"{obj.label()}: {key.replace('_', ' ')} is not finite")
     return x
@@ -441,20 +482,29 @@ def _cut(path, base: dict, subs: list[dict]) -> list[np.ndarray]:
         what = f"{s['label']} (on {base['label']})"
         dist = float(np.max(np.abs(frame.height(s["poly"]))))
         if dist > 1e-4 * size:
-            raise parse_error(path, s["where"], f"{what} is not in the plane of its base surface "
-                                                f"(a vertex is {dist:.3g} m from it)")
+            raise parse_error(
+                path, s["where"], f"{what} is not in the plane of its base surface (a vertex is {dist:.3g} m from it)"
+            )
         q = frame.to2d(s["poly"])
         a = _planar.signed_area_2d(q)
         if a <= 0:
-            raise parse_error(path, s["where"], f"{what} faces the opposite way to its base surface "
-                                                "(its vertices must go round in the same sense as the base's)"
-                              if a < 0 else f"{what} has zero area")
+            raise parse_error(
+                path,
+                s["where"],
+                f"{what} faces the opposite way to its base surface "
+                "(its vertices must go round in the same sense as the base's)"
+                if a < 0
+                else f"{what} has zero area",
+            )
         if not _is_convex_2d(q, 1e-9 * size * size):
             raise parse_error(path, s["where"], f"{what} is not convex")
         inside = sum(_planar.convex_intersection_area(q, t) for t in parts)
         if inside < (1 - 1e-6) * a:
-            raise parse_error(path, s["where"], f"{what} is not inside its base surface "
-                                                f"({100 * (1 - inside / a):.3g}% of it lies outside)")
+            raise parse_error(
+                path,
+                s["where"],
+                f"{what} is not inside its base surface ({100 * (1 - inside / a):.3g}% of it lies outside)",
+            )
         for other, q2 in holes:
             ov = _planar.convex_intersection_area(q, q2)
             if ov > 1e-9 * min(a, _planar.signed_area_2d(q2)):
@@ -492,8 +542,11 @@ def _choice(path, obj, key, value) -> str:
     if v == "":
         return _RULE_DEFAULTS[key]
     if v not in _RULE_CHOICES[key]:
-        raise parse_error(path, obj.where, f"GlobalGeometryRules: {key.replace('_', ' ')} {value!r} is not one of "
-                                           f"{', '.join(_RULE_CHOICES[key])}")
+        raise parse_error(
+            path,
+            obj.where,
+            f"GlobalGeometryRules: {key.replace('_', ' ')} {value!r} is not one of {', '.join(_RULE_CHOICES[key])}",
+        )
     return "world" if v == "absolute" else v
 
 
@@ -548,8 +601,12 @@ def _build(path: str, objs: list[_Obj], dialect: str) -> SceneData:
         if not rec["name"]:
             raise parse_error(path, rec["where"], f"{rec['label']} has no name")
         if key in surfaces:
-            raise parse_error(path, rec["where"], f"surface name {rec['name']!r} is used twice "
-                                                  f"(first at {surfaces[key]['where']}); EnergyPlus names are unique")
+            raise parse_error(
+                path,
+                rec["where"],
+                f"surface name {rec['name']!r} is used twice "
+                f"(first at {surfaces[key]['where']}); EnergyPlus names are unique",
+            )
         surfaces[key] = rec
         order.append(key)
 
@@ -581,8 +638,20 @@ def _build(path: str, objs: list[_Obj], dialect: str) -> SceneData:
             az_hint = az
         if _planar.polygon_area_3d(outside) == 0:
             raise parse_error(path, o.where, f"{o.label()} has zero area")
-        add({"name": o.name, "label": o.label(), "where": o.where, "zone": z.name, "type": stype,
-             "outside": outside, "poly": outside[::-1].copy(), "az_hint": az_hint, "subs": [], "base": None})
+        add(
+            {
+                "name": o.name,
+                "label": o.label(),
+                "where": o.where,
+                "zone": z.name,
+                "type": stype,
+                "outside": outside,
+                "poly": outside[::-1].copy(),
+                "az_hint": az_hint,
+                "subs": [],
+                "base": None,
+            }
+        )
 
     for o in objs:
         if o.kind not in _SUB:
@@ -591,12 +660,16 @@ def _build(path: str, objs: list[_Obj], dialect: str) -> SceneData:
         bname = str(o.fields.get("building_surface_name", "")).strip()
         base = surfaces.get(bname.lower())
         if base is None or base["base"] is not None:
-            raise parse_error(path, o.where, f"{o.label()}: base surface {bname!r} is not a building surface "
-                                             "of this file")
+            raise parse_error(
+                path, o.where, f"{o.label()}: base surface {bname!r} is not a building surface of this file"
+            )
         mult = _num(path, o, "multiplier", 1.0)
         if mult > 1:
-            warnings.warn(f"{path}: {o.label()} has multiplier {mult:g}; nusselt draws it once (its geometry), "
-                          "so its view factors are those of one window", stacklevel=3)
+            warnings.warn(
+                f"{path}: {o.label()} has multiplier {mult:g}; nusselt draws it once (its geometry), "
+                "so its view factors are those of one window",
+                stacklevel=3,
+            )
         if form == "detailed":
             p = coords(o)
             if detailed_relative:
@@ -611,8 +684,18 @@ def _build(path: str, objs: list[_Obj], dialect: str) -> SceneData:
             length, height = _num(path, o, "length"), _num(path, o, "height")
             p0 = llc + x0 * ex + z0 * ey
             outside = np.array([p0 + height * ey, p0, p0 + length * ex, p0 + length * ex + height * ey])
-        rec = {"name": o.name, "label": o.label(), "where": o.where, "zone": base["zone"], "type": stype,
-               "outside": outside, "poly": outside[::-1].copy(), "az_hint": None, "subs": [], "base": base["name"]}
+        rec = {
+            "name": o.name,
+            "label": o.label(),
+            "where": o.where,
+            "zone": base["zone"],
+            "type": stype,
+            "outside": outside,
+            "poly": outside[::-1].copy(),
+            "az_hint": None,
+            "subs": [],
+            "base": base["name"],
+        }
         add(rec)
         base["subs"].append(rec)
 
@@ -620,8 +703,11 @@ def _build(path: str, objs: list[_Obj], dialect: str) -> SceneData:
         raise parse_error(path, None, "no heat-transfer surfaces (BuildingSurface:Detailed, Wall:Exterior, ...) found")
     if internal_mass:
         shown = ", ".join(repr(n) for n in internal_mass[:5]) + (" ..." if len(internal_mass) > 5 else "")
-        warnings.warn(f"{path}: InternalMass {shown} has no geometry and is left out of the view factors "
-                      "(EnergyPlus takes the omitted pairs as zero: no long-wave exchange with it)", stacklevel=3)
+        warnings.warn(
+            f"{path}: InternalMass {shown} has no geometry and is left out of the view factors "
+            "(EnergyPlus takes the omitted pairs as zero: no long-wave exchange with it)",
+            stacklevel=3,
+        )
 
     names, surface_zone, surface_type, base_of = [], [], [], []
     verts, faces, surface, origin = [], [], [], []
@@ -639,7 +725,9 @@ def _build(path: str, objs: list[_Obj], dialect: str) -> SceneData:
             faces.append(np.arange(nverts, nverts + len(p)))
             nverts += len(p)
             surface.append(k)
-            origin.append(f"{rec['where']} ({rec['label']}" + (f", part {j + 1} of {len(polys)})" if len(polys) > 1 else ")"))
+            origin.append(
+                f"{rec['where']} ({rec['label']}" + (f", part {j + 1} of {len(polys)})" if len(polys) > 1 else ")")
+            )
     used = []
     for z in zones.values():
         if z.name in surface_zone:
@@ -669,6 +757,7 @@ def _build(path: str, objs: list[_Obj], dialect: str) -> SceneData:
 
 
 # --- writing -------------------------------------------------------------------------------
+
 
 def _check_name(path, label: str) -> str:
     s = str(label).strip()
@@ -726,10 +815,15 @@ def write_user_view_factors(path, zones: list[tuple[str, object, list[str]]], *,
         objects.append((zone, view_factor_triplets(path, matrix, names)))
     with _atomic(path, "w") as fh:
         if fmt == "epjson":
-            doc = {OBJECT: {f"{OBJECT} {k}": {
-                "zone_or_zonelist_or_space_or_spacelist_name": zone,
-                "view_factors": [{"from_surface": a, "to_surface": b, "view_factor": f} for a, b, f in trip],
-            } for k, (zone, trip) in enumerate(objects, start=1)}}
+            doc = {
+                OBJECT: {
+                    f"{OBJECT} {k}": {
+                        "zone_or_zonelist_or_space_or_spacelist_name": zone,
+                        "view_factors": [{"from_surface": a, "to_surface": b, "view_factor": f} for a, b, f in trip],
+                    }
+                    for k, (zone, trip) in enumerate(objects, start=1)
+                }
+            }
             json.dump(doc, fh, indent=2)
             fh.write("\n")
             return
@@ -765,7 +859,10 @@ def read_user_view_factors(path) -> dict[str, dict[tuple[str, str], float]]:
             continue
         rest = vals[2:]
         if len(rest) % 3:
-            raise parse_error(path, f"line {line}", f"{OBJECT}: {len(rest)} fields after the zone name are not "
-                                                    "(from, to, view factor) triplets")
+            raise parse_error(
+                path,
+                f"line {line}",
+                f"{OBJECT}: {len(rest)} fields after the zone name are not (from, to, view factor) triplets",
+            )
         out[vals[1]] = {(rest[k], rest[k + 1]): float(rest[k + 2]) for k in range(0, len(rest), 3)}
     return out

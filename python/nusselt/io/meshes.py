@@ -25,9 +25,16 @@ import numpy as np
 
 from .scenedata import SceneData, SkippedCellsWarning, check_readable, parse_error
 
-_SURFACE_TYPES = {"triangle": 3, "quad": 4, "polygon": None,
-                  # Second-order cells: their first 3 or 4 nodes are the corners.
-                  "triangle6": 3, "triangle7": 3, "quad8": 4, "quad9": 4}
+_SURFACE_TYPES = {
+    "triangle": 3,
+    "quad": 4,
+    "polygon": None,
+    # Second-order cells: their first 3 or 4 nodes are the corners.
+    "triangle6": 3,
+    "triangle7": 3,
+    "quad8": 4,
+    "quad9": 4,
+}
 _SKIPPED_TYPES = {"vertex", "line", "line3", "line4", "line5", "line6", "polyline"}
 _VOLUME_PREFIXES = ("tetra", "hexahedron", "wedge", "pyramid", "polyhedron", "penta", "hexa")
 
@@ -93,20 +100,29 @@ def _check_stl(path: str) -> None:
             return  # a complete binary file (its header may start with "solid")
         if not head.lstrip().lower().startswith(b"solid"):
             if n < 0:
-                raise parse_error(path, None, f"not an STL file: a binary STL needs an 84-byte header, "
-                                              f"the file has {size} bytes")
+                raise parse_error(
+                    path, None, f"not an STL file: a binary STL needs an 84-byte header, the file has {size} bytes"
+                )
             if size < 84 + 50 * n:
-                raise parse_error(path, None, f"truncated: the binary STL header declares {n} triangles "
-                                              f"({84 + 50 * n} bytes), the file has {size} bytes "
-                                              f"({(size - 84) // 50} whole triangles)")
+                raise parse_error(
+                    path,
+                    None,
+                    f"truncated: the binary STL header declares {n} triangles "
+                    f"({84 + 50 * n} bytes), the file has {size} bytes "
+                    f"({(size - 84) // 50} whole triangles)",
+                )
             return
         fh.seek(max(0, size - 4096))
         tail = fh.read().splitlines()
     last = next((t.strip() for t in reversed(tail) if t.strip()), b"")
     if not last.lower().startswith(b"endsolid"):
-        raise parse_error(path, None, "truncated: the ASCII STL file does not end with 'endsolid' (its last line "
-                                      f"is {last[:40].decode('utf-8', 'replace')!r}); the facets after the cut "
-                                      "are missing")
+        raise parse_error(
+            path,
+            None,
+            "truncated: the ASCII STL file does not end with 'endsolid' (its last line "
+            f"is {last[:40].decode('utf-8', 'replace')!r}); the facets after the cut "
+            "are missing",
+        )
 
 
 def read_mesh(path: str, format: str | None = None) -> SceneData:
@@ -120,8 +136,12 @@ def read_mesh(path: str, format: str | None = None) -> SceneData:
 
     try:
         # meshio prints and warns on some inputs (e.g. ASCII STL); keep our output clean.
-        with warnings.catch_warnings(), np.errstate(all="ignore"), \
-                contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()):
+        with (
+            warnings.catch_warnings(),
+            np.errstate(all="ignore"),
+            contextlib.redirect_stdout(io.StringIO()),
+            contextlib.redirect_stderr(io.StringIO()),
+        ):
             warnings.simplefilter("ignore")
             mesh = meshio.read(path, file_format=format)
     except (OSError, MemoryError):
@@ -135,8 +155,12 @@ def read_mesh(path: str, format: str | None = None) -> SceneData:
         msg = _one_line(e)
         if "Unknown file format" in msg or "Could not deduce" in msg:
             ext = os.path.splitext(path)[1] or "(none)"
-            raise parse_error(path, None, f"unknown file extension {ext}: give the format "
-                                          "(obj, vs3, or a meshio format such as stl, ply, vtu, gmsh)") from None
+            raise parse_error(
+                path,
+                None,
+                f"unknown file extension {ext}: give the format "
+                "(obj, vs3, or a meshio format such as stl, ply, vtu, gmsh)",
+            ) from None
         raise parse_error(path, None, f"cannot read the mesh: {msg}") from None
     except Exception as e:  # meshio's parsers raise many kinds of errors on bad input
         raise parse_error(path, None, f"cannot read the mesh ({type(e).__name__}: {_one_line(e)})") from None
@@ -181,9 +205,13 @@ def read_mesh(path: str, format: str | None = None) -> SceneData:
     if not faces:
         if volume_types:
             kinds = ", ".join(f"{n} {t}" for t, n in volume_types.items())
-            raise parse_error(path, None, f"the mesh holds only 3-D cells ({kinds}); form factors need the "
-                                          "boundary surface: export the surface mesh (triangles/quads), e.g. "
-                                          "a Gmsh 'Physical Surface' or ParaView's Extract Surface")
+            raise parse_error(
+                path,
+                None,
+                f"the mesh holds only 3-D cells ({kinds}); form factors need the "
+                "boundary surface: export the surface mesh (triangles/quads), e.g. "
+                "a Gmsh 'Physical Surface' or ParaView's Extract Surface",
+            )
         raise parse_error(path, None, "the mesh has no triangles, quads or polygons")
     npts = len(pts)
     for k, f in enumerate(faces):
@@ -195,9 +223,12 @@ def read_mesh(path: str, format: str | None = None) -> SceneData:
 
     if skipped or volume_types:
         kinds = ", ".join(f"{n} {t}" for t, n in {**skipped, **volume_types}.items())
-        warnings.warn(f"{path}: skipped {sum(skipped.values()) + sum(volume_types.values())} cells that are not "
-                      f"surfaces ({kinds}); read {len(faces)} surface cells (triangles, quads, polygons)",
-                      SkippedCellsWarning, stacklevel=3)
+        warnings.warn(
+            f"{path}: skipped {sum(skipped.values()) + sum(volume_types.values())} cells that are not "
+            f"surfaces ({kinds}); read {len(faces)} surface cells (triangles, quads, polygons)",
+            SkippedCellsWarning,
+            stacklevel=3,
+        )
     block_of = np.array(block_of)
     index_in_block = np.array(index_in_block)
     names, surface, how = _surface_names(path, mesh, block_of, index_in_block, len(faces))

@@ -13,12 +13,43 @@ from .scenedata import SceneData, check_readable, parse_error
 
 #: Statements that carry nothing a form-factor computation needs.
 _IGNORED = {
-    "vt", "vn", "vp", "usemtl", "mtllib", "s", "l", "p", "maplib", "usemap", "lod", "bevel",
-    "c_interp", "d_interp", "shadow_obj", "trace_obj", "mg", "call", "csh",
+    "vt",
+    "vn",
+    "vp",
+    "usemtl",
+    "mtllib",
+    "s",
+    "l",
+    "p",
+    "maplib",
+    "usemap",
+    "lod",
+    "bevel",
+    "c_interp",
+    "d_interp",
+    "shadow_obj",
+    "trace_obj",
+    "mg",
+    "call",
+    "csh",
 }
 #: Free-form geometry: curves and surfaces we cannot turn into polygons.
-_FREEFORM = {"cstype", "deg", "bmat", "step", "curv", "curv2", "surf", "parm", "trim", "hole",
-             "scrv", "sp", "end", "con"}
+_FREEFORM = {
+    "cstype",
+    "deg",
+    "bmat",
+    "step",
+    "curv",
+    "curv2",
+    "surf",
+    "parm",
+    "trim",
+    "hole",
+    "scrv",
+    "sp",
+    "end",
+    "con",
+}
 
 DEFAULT_SURFACE = "default"
 
@@ -100,8 +131,11 @@ def read_obj(path: str) -> SceneData:
                 if i < 0:
                     # Relative index: -1 is the most recently defined vertex.
                     if -i > nv:
-                        raise parse_error(path, where, f"face refers to vertex {i} (relative), "
-                                                       f"but only {nv} vertices are defined so far")
+                        raise parse_error(
+                            path,
+                            where,
+                            f"face refers to vertex {i} (relative), but only {nv} vertices are defined so far",
+                        )
                     i = nv + i
                 else:
                     i -= 1
@@ -119,8 +153,11 @@ def read_obj(path: str) -> SceneData:
         elif key in _IGNORED:
             continue
         elif key in _FREEFORM:
-            raise parse_error(path, where, f"free-form geometry ({key!r}) is not supported; "
-                                           "export polygons (triangles, quads or n-gons)")
+            raise parse_error(
+                path,
+                where,
+                f"free-form geometry ({key!r}) is not supported; export polygons (triangles, quads or n-gons)",
+            )
         else:
             raise parse_error(path, where, f"unknown OBJ statement {key!r}")
 

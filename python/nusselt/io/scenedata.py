@@ -101,8 +101,11 @@ class SceneData:
             if f.size < 3:
                 raise parse_error(src, self.origin[k], f"a polygon needs at least 3 vertices, this one has {f.size}")
             if f.min() < 0 or f.max() >= nv:
-                raise parse_error(src, self.origin[k], f"polygon refers to vertex {int(f.max()) + 1}, "
-                                                       f"but only {nv} vertices are defined")
+                raise parse_error(
+                    src,
+                    self.origin[k],
+                    f"polygon refers to vertex {int(f.max()) + 1}, but only {nv} vertices are defined",
+                )
         if self.emissivity is not None:
             self.emissivity = np.asarray(self.emissivity, dtype=np.float64).ravel()
             if self.emissivity.shape != (len(self.names),):
@@ -114,5 +117,7 @@ class SceneData:
         return [self.vertices[f] for f in self.faces]
 
     def __repr__(self) -> str:
-        return (f"SceneData({self.source!r}: {len(self.faces)} polygons, {len(self.names)} surfaces, "
-                f"{int(self.obstruction.sum())} obstruction-only)")
+        return (
+            f"SceneData({self.source!r}: {len(self.faces)} polygons, {len(self.names)} surfaces, "
+            f"{int(self.obstruction.sum())} obstruction-only)"
+        )

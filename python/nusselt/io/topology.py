@@ -79,8 +79,7 @@ def shells(vertices: np.ndarray, faces: list[np.ndarray]) -> Shells:
     face_of_edge = np.repeat(np.arange(nf), np.diff(offsets))
     lo, hi = np.minimum(a, b), np.maximum(a, b)
     # one int64 key per undirected edge (1-D unique is much faster than unique on rows)
-    keys, key_of_edge, count = np.unique(lo * (int(weld.max()) + 1) + hi, return_inverse=True,
-                                         return_counts=True)
+    keys, key_of_edge, count = np.unique(lo * (int(weld.max()) + 1) + hi, return_inverse=True, return_counts=True)
     key_of_edge = key_of_edge.ravel()
     nk = len(keys)
     # consistent: each edge twice, once each way (a < b once, a > b once)
@@ -164,8 +163,12 @@ def _winding(points: np.ndarray, vertices: np.ndarray, faces: list[np.ndarray]) 
         r = vertices[t] - x  # (T, 3, 3)
         la, lb, lc = (np.linalg.norm(r[:, i], axis=1) for i in range(3))
         num = np.einsum("ij,ij->i", r[:, 0], np.cross(r[:, 1], r[:, 2]))
-        den = (la * lb * lc + np.einsum("ij,ij->i", r[:, 0], r[:, 1]) * lc
-               + np.einsum("ij,ij->i", r[:, 0], r[:, 2]) * lb + np.einsum("ij,ij->i", r[:, 1], r[:, 2]) * la)
+        den = (
+            la * lb * lc
+            + np.einsum("ij,ij->i", r[:, 0], r[:, 1]) * lc
+            + np.einsum("ij,ij->i", r[:, 0], r[:, 2]) * lb
+            + np.einsum("ij,ij->i", r[:, 1], r[:, 2]) * la
+        )
         out[k] = 2.0 * np.arctan2(num, den).sum() / (4.0 * np.pi)
     return out
 

@@ -44,7 +44,7 @@ _INT_CONTROLS = {"maxu", "maxo", "mino", "row", "col", "encl", "emit", "out", "l
 _HONOURED = {"encl", "emit"}
 _ALGORITHM_CONTROLS = {
     "eps": "View3D's adaptive-integration convergence limit; nusselt's methods are exact or take their own "
-           "tolerances (e.g. --option obstructed_tol=...)",
+    "tolerances (e.g. --option obstructed_tol=...)",
     "maxu": "View3D's recursion limit for unobstructed pairs; not used by nusselt",
     "maxo": "View3D's recursion limit for obstructed pairs; not used by nusselt",
     "mino": "View3D's minimum recursions for obstructed pairs; not used by nusselt",
@@ -170,14 +170,20 @@ def read_view3d(path: str) -> SceneData:
                 raise err(no, "F record without a geometry form: expected 'F 3' or 'F 3a'")
             g = toks[1].lower()
             if g not in ("3", "3a"):
-                raise err(no, f"unsupported geometry form 'F {toks[1]}': nusselt reads 'F 3' and 'F 3a' "
-                              "(3-D View3D files); 2-D View2D files are not supported")
+                raise err(
+                    no,
+                    f"unsupported geometry form 'F {toks[1]}': nusselt reads 'F 3' and 'F 3a' "
+                    "(3-D View3D files); 2-D View2D files are not supported",
+                )
             if geometry is not None and g != geometry:
                 raise err(no, f"second F record 'F {toks[1]}' contradicts 'F {geometry}' on line {f_line}")
             geometry, f_line = g, no
     if geometry is None:
-        raise err(None, "missing F record: the geometry form ('F 3' with V and S records, "
-                        "or 'F 3a' with local shapes) must be given")
+        raise err(
+            None,
+            "missing F record: the geometry form ('F 3' with V and S records, "
+            "or 'F 3a' with local shapes) must be given",
+        )
 
     title = ""
     controls: dict[str, float | int] = {}
@@ -192,27 +198,32 @@ def read_view3d(path: str) -> SceneData:
         i += 1
         c = text[0].upper()
         if c == "T":
-            title = text[len(toks[0]):].strip()
+            title = text[len(toks[0]) :].strip()
         elif c == "C":
-            words = [w for w in re.split(r"[\s=,]+", text[len(toks[0]):].strip()) if w]
+            words = [w for w in re.split(r"[\s=,]+", text[len(toks[0]) :].strip()) if w]
             if len(words) % 2:
                 raise err(no, f"control {words[-1]!r} has no value (write name=value)")
             for name, value in zip(words[::2], words[1::2]):
                 key = name.lower()
                 if key not in _HONOURED and key not in _ALGORITHM_CONTROLS:
                     # View3D warns "Invalid control word" and goes on (getdat.c GetCtrl)
-                    warnings.warn(f"{path}, line {no}: control {name}={value} is not a View3D 3.2 control "
-                                  "(obsolete or misspelt); ignored, as View3D does", stacklevel=2)
+                    warnings.warn(
+                        f"{path}, line {no}: control {name}={value} is not a View3D 3.2 control "
+                        "(obsolete or misspelt); ignored, as View3D does",
+                        stacklevel=2,
+                    )
                     controls[name] = value
                     continue
                 if key in _INT_CONTROLS:
                     controls[name] = as_int(value, no, f"control {name}")
                 else:
                     controls[name] = as_float(value, no, f"control {name}")
-                if key in _ALGORITHM_CONTROLS and not (key in ("row", "col", "out", "list", "prjd")
-                                                       and controls[name] == 0):
-                    warnings.warn(f"{path}, line {no}: control {name}={value} ignored: {_ALGORITHM_CONTROLS[key]}",
-                                  stacklevel=2)
+                if key in _ALGORITHM_CONTROLS and not (
+                    key in ("row", "col", "out", "list", "prjd") and controls[name] == 0
+                ):
+                    warnings.warn(
+                        f"{path}, line {no}: control {name}={value} ignored: {_ALGORITHM_CONTROLS[key]}", stacklevel=2
+                    )
         elif c == "F" or c == "X":
             continue
         elif c == "V":
@@ -224,8 +235,11 @@ def read_view3d(path: str) -> SceneData:
             if 1 <= n <= len(vertices):
                 raise err(no, f"vertex {n} is defined twice (first on line {vertex_line[n - 1]})")
             if n != len(vertices) + 1:
-                raise err(no, f"vertex {n} out of sequence: expected vertex {len(vertices) + 1} "
-                              "(View3D numbers vertices 1, 2, 3 ... in order)")
+                raise err(
+                    no,
+                    f"vertex {n} out of sequence: expected vertex {len(vertices) + 1} "
+                    "(View3D numbers vertices 1, 2, 3 ... in order)",
+                )
             vertices.append(tuple(as_float(t, no, f"coordinate of vertex {n}") for t in toks[2:5]))
             vertex_line.append(no)
         elif c in "SMNO":
@@ -235,11 +249,17 @@ def read_view3d(path: str) -> SceneData:
             if 1 <= n <= len(surfaces):
                 raise err(no, f"surface {n} is defined twice (first on line {surfaces[n - 1].line})")
             if n != len(surfaces) + 1:
-                raise err(no, f"surface {n} out of sequence: expected surface {len(surfaces) + 1} "
-                              "(View3D numbers S, M, N and O surfaces 1, 2, 3 ... in order)")
+                raise err(
+                    no,
+                    f"surface {n} out of sequence: expected surface {len(surfaces) + 1} "
+                    "(View3D numbers S, M, N and O surfaces 1, 2, 3 ... in order)",
+                )
             if c != "O" and first_obstruction is not None:
-                raise err(no, f"{_KIND_WORD[c]} {n} comes after obstruction surface {first_obstruction.number} "
-                              f"(line {first_obstruction.line}); O records must come after all S, M and N records")
+                raise err(
+                    no,
+                    f"{_KIND_WORD[c]} {n} comes after obstruction surface {first_obstruction.number} "
+                    f"(line {first_obstruction.line}); O records must come after all S, M and N records",
+                )
             s = _Surface(n, c, no)
             if geometry == "3":
                 need = 6 if c == "O" else 9
@@ -250,12 +270,16 @@ def read_view3d(path: str) -> SceneData:
                 rest = toks[6:]
             else:
                 if len(toks) < 3:
-                    raise err(no, f"{_KIND_WORD[c]} {n}: expected '{c} n shape base cmb emit name' "
-                                  "with shape R, Q or T")
+                    raise err(
+                        no, f"{_KIND_WORD[c]} {n}: expected '{c} n shape base cmb emit name' with shape R, Q or T"
+                    )
                 s.shape = toks[2].upper()
                 if s.shape not in _SHAPE_NUMBERS:
-                    raise err(no, f"surface {n}: unknown shape {toks[2]!r}; 'F 3a' shapes are "
-                                  "R (rectangle), Q (quadrilateral) and T (triangle)")
+                    raise err(
+                        no,
+                        f"surface {n}: unknown shape {toks[2]!r}; 'F 3a' shapes are "
+                        "R (rectangle), Q (quadrilateral) and T (triangle)",
+                    )
                 rest = toks[3:]
                 if c != "O" and len(rest) < 3:
                     raise err(no, f"{_KIND_WORD[c]} {n}: expected '{c} n shape base cmb emit name', got {text!r}")
@@ -275,8 +299,11 @@ def read_view3d(path: str) -> SceneData:
                 nums: list[float] = []
                 while len(nums) < want:
                     if i >= len(records):
-                        raise err(no, f"surface {n} (shape {s.shape}) needs {want} numbers after its record "
-                                      "(x0 y0 z0 azimuth tilt and the shape data); the file ends first")
+                        raise err(
+                            no,
+                            f"surface {n} (shape {s.shape}) needs {want} numbers after its record "
+                            "(x0 y0 z0 azimuth tilt and the shape data); the file ends first",
+                        )
                     gno, _, gtoks = records[i]
                     i += 1
                     for t in gtoks:
@@ -285,8 +312,11 @@ def read_view3d(path: str) -> SceneData:
                         try:
                             x = float(t)
                         except ValueError:
-                            raise err(gno, f"surface {n} (shape {s.shape}, line {no}) needs {want} numbers "
-                                           f"(x0 y0 z0 azimuth tilt and the shape data), found {t!r}") from None
+                            raise err(
+                                gno,
+                                f"surface {n} (shape {s.shape}, line {no}) needs {want} numbers "
+                                f"(x0 y0 z0 azimuth tilt and the shape data), found {t!r}",
+                            ) from None
                         if not math.isfinite(x):
                             raise err(gno, f"surface {n}: geometry value {t!r} is not finite")
                         nums.append(x)
@@ -308,11 +338,16 @@ def read_view3d(path: str) -> SceneData:
             v = s.verts
             for k, j in enumerate(v):
                 if j > nv:
-                    raise err(s.line, f"{_KIND_WORD[s.kind]} {s.number} refers to vertex {j}, "
-                                      f"but only {nv} vertices are defined")
+                    raise err(
+                        s.line,
+                        f"{_KIND_WORD[s.kind]} {s.number} refers to vertex {j}, but only {nv} vertices are defined",
+                    )
                 if j < 0 or (j == 0 and k < 3):
-                    raise err(s.line, f"{_KIND_WORD[s.kind]} {s.number} has vertex number {j}; "
-                                      "vertices are numbered from 1 (only v4 = 0 is allowed: a triangle)")
+                    raise err(
+                        s.line,
+                        f"{_KIND_WORD[s.kind]} {s.number} has vertex number {j}; "
+                        "vertices are numbered from 1 (only v4 = 0 is allowed: a triangle)",
+                    )
             s.verts = [j for j in v if j != 0] if v[3] == 0 else v
             s.coords = xyz[np.array(s.verts) - 1]
 
@@ -322,9 +357,12 @@ def read_view3d(path: str) -> SceneData:
         # View3D input ends with an end-of-data record; without it the file was cut short
         # (a file cut at a record boundary otherwise loads silently with surfaces missing)
         last = records[-1][0]
-        raise err(None, f"the file ends without its end-of-data record ('E' or 'End of data') after "
-                        f"{len(surfaces)} surfaces (last record on line {last}): it looks truncated; "
-                        "if it is complete, add a last line 'End of data'")
+        raise err(
+            None,
+            f"the file ends without its end-of-data record ('E' or 'End of data') after "
+            f"{len(surfaces)} surfaces (last record on line {last}): it looks truncated; "
+            "if it is complete, add a last line 'End of data'",
+        )
     return data
 
 
@@ -370,8 +408,11 @@ def _check_references(surfaces: list[_Surface], err) -> None:
             if t.kind != "S":
                 raise err(s.line, f"{what}: cannot combine with {_KIND_WORD[t.kind]} {t.number}")
             if t.cmb:
-                raise err(s.line, f"{what}: cannot combine with surface {t.number}, which is itself combined "
-                                  f"into surface {t.cmb} (View3D does not chain combinations)")
+                raise err(
+                    s.line,
+                    f"{what}: cannot combine with surface {t.number}, which is itself combined "
+                    f"into surface {t.cmb} (View3D does not chain combinations)",
+                )
 
 
 def _is_convex(q: np.ndarray, tol: float) -> bool:
@@ -392,15 +433,21 @@ def _cut_holes(base: _Surface, holes: list[_Surface], err) -> list[np.ndarray]:
     size = frame.size
     b2 = frame.to2d(base.coords)
     if not _is_convex(b2, 1e-9 * size * size):
-        raise err(base.line, f"{_KIND_WORD[base.kind]} {base.number} has sub-surfaces but is not convex "
-                             "(View3D surfaces must be convex)")
+        raise err(
+            base.line,
+            f"{_KIND_WORD[base.kind]} {base.number} has sub-surfaces but is not convex "
+            "(View3D surfaces must be convex)",
+        )
     h2s = []
     for h in holes:
         what = f"sub-surface {h.number}" if h.kind == "S" else f"{_KIND_WORD[h.kind]} {h.number}"
         dist = np.max(np.abs(frame.height(h.coords)))
         if dist > 1e-5 * size:
-            raise err(h.line, f"{what} is not in the plane of its base surface {base.number} "
-                              f"(a vertex is {dist:.3g} from that plane)")
+            raise err(
+                h.line,
+                f"{what} is not in the plane of its base surface {base.number} "
+                f"(a vertex is {dist:.3g} from that plane)",
+            )
         q = frame.to2d(h.coords)
         a = _planar.signed_area_2d(q)
         if a == 0:
@@ -409,17 +456,23 @@ def _cut_holes(base: _Surface, holes: list[_Surface], err) -> list[np.ndarray]:
         if h.kind == "S" and not facing_same:
             raise err(h.line, f"sub-surface {h.number} must face the same way as its base {base.number}")
         if h.kind in "MN" and facing_same:
-            raise err(h.line, f"{_KIND_WORD[h.kind]} {h.number} must face the opposite way to its base "
-                              f"surface {base.number} (View3D convention: list its vertices in the reverse order)")
+            raise err(
+                h.line,
+                f"{_KIND_WORD[h.kind]} {h.number} must face the opposite way to its base "
+                f"surface {base.number} (View3D convention: list its vertices in the reverse order)",
+            )
         if a < 0:
             q = q[::-1].copy()
         if not _is_convex(q, 1e-9 * size * size):
             raise err(h.line, f"{what} is not convex (View3D surfaces must be convex)")
         inside = _planar.convex_intersection_area(q, b2)
         if inside < (1 - 1e-6) * abs(a):
-            raise err(h.line, f"{what} is not inside its base surface {base.number} "
-                              f"({100 * (1 - inside / abs(a)):.3g}% of it lies outside)")
-        for (g, q2) in h2s:
+            raise err(
+                h.line,
+                f"{what} is not inside its base surface {base.number} "
+                f"({100 * (1 - inside / abs(a)):.3g}% of it lies outside)",
+            )
+        for g, q2 in h2s:
             ov = _planar.convex_intersection_area(q, q2)
             if ov > 1e-9 * min(abs(a), _planar.signed_area_2d(q2)):
                 other = f"sub-surface {g.number}" if g.kind == "S" else f"{_KIND_WORD[g.kind]} {g.number}"
@@ -478,8 +531,15 @@ def _build(path, geometry, title, controls, surfaces, err) -> SceneData:
         "title": title,
         "controls": dict(controls),
         "surfaces": [
-            {"number": s.number, "kind": s.kind, "name": s.name, "base": s.base, "cmb": s.cmb,
-             "emit": s.emit, "line": s.line}
+            {
+                "number": s.number,
+                "kind": s.kind,
+                "name": s.name,
+                "base": s.base,
+                "cmb": s.cmb,
+                "emit": s.emit,
+                "line": s.line,
+            }
             for s in surfaces
         ],
         "surface_numbers": numbers,
@@ -505,7 +565,7 @@ def read_view3d_output(path: str) -> dict:
     Returns ``{"version", "out", "encl", "emit", "matrix" (N, N) ndarray, "areas", "emissivity"}``."""
     path = str(path)
     check_readable(path)
-    with open(path, "r", encoding="utf-8", errors="replace") as fh:
+    with open(path, encoding="utf-8", errors="replace") as fh:
         lines = [ln for ln in fh.read().splitlines() if ln.strip()]
     head = lines[0].split()
     if len(head) < 6 or head[0] != "View3D":
@@ -529,7 +589,10 @@ def read_view3d_output(path: str) -> dict:
         return r
 
     return {
-        "version": head[1], "out": out, "encl": encl, "emit": emit,
+        "version": head[1],
+        "out": out,
+        "encl": encl,
+        "emit": emit,
         "areas": row(1),
         "matrix": np.array([row(2 + i) for i in range(n)]).reshape(n, n),
         "emissivity": row(2 + n),

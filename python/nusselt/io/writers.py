@@ -62,7 +62,7 @@ def _dense_rows(matrix, n: int, block: int = 256):
     if sp.issparse(matrix):
         m = sp.csr_array(matrix)
         for s in range(0, n, block):
-            for r in m[s:s + block].toarray():
+            for r in m[s : s + block].toarray():
                 yield r
     else:
         m = np.asarray(matrix, dtype=np.float64)
@@ -73,12 +73,15 @@ def _dense_rows(matrix, n: int, block: int = 256):
 def _check_size(path: str, n: int, max_rows: int | None, kind: str) -> None:
     if max_rows is not None and n > max_rows:
         gb = n * n * 10 / 1e9
-        raise ValueError(f"{path}: a dense {kind} of {n} x {n} values (about {gb:.3g} GB of text) is too large "
-                         f"(limit {max_rows} rows); write .npz instead (sparse, read back with "
-                         "nusselt.io.load_npz), or aggregate to surfaces")
+        raise ValueError(
+            f"{path}: a dense {kind} of {n} x {n} values (about {gb:.3g} GB of text) is too large "
+            f"(limit {max_rows} rows); write .npz instead (sparse, read back with "
+            "nusselt.io.load_npz), or aggregate to surfaces"
+        )
 
 
 # --- npz ----------------------------------------------------------------------------------
+
 
 def write_npz(path, matrix, areas, names, *, compress: bool = False, **extra_arrays) -> None:
     """Store the form factors as a ``.npz`` (zip-deflated with ``compress=True``).
@@ -177,12 +180,14 @@ def load_npz(path) -> dict:
         if "json" in parts:
             out[base] = json.loads(str(parts["json"]))
         else:
-            out[base] = sp.csr_array((parts["data"], parts["indices"], parts["indptr"]),
-                                     shape=tuple(int(x) for x in parts["shape"]))
+            out[base] = sp.csr_array(
+                (parts["data"], parts["indices"], parts["indptr"]), shape=tuple(int(x) for x in parts["shape"])
+            )
     return out
 
 
 # --- csv ----------------------------------------------------------------------------------
+
 
 def write_csv(path, matrix, names, *, precision: int | None = None, max_rows: int | None = MAX_DENSE_ROWS) -> None:
     """Dense table: a header row ``from \\ to, name1, name2, ...`` and one row per source
@@ -202,8 +207,18 @@ def write_csv(path, matrix, names, *, precision: int | None = None, max_rows: in
 
 # --- View3D -------------------------------------------------------------------------------
 
-def write_view3d(path, matrix, areas, emissivity=None, encl: int = 0, precision: int | None = 6, *,
-                 emit: int = 0, max_rows: int | None = MAX_DENSE_ROWS) -> None:
+
+def write_view3d(
+    path,
+    matrix,
+    areas,
+    emissivity=None,
+    encl: int = 0,
+    precision: int | None = 6,
+    *,
+    emit: int = 0,
+    max_rows: int | None = MAX_DENSE_ROWS,
+) -> None:
     """View3D 3.2 text output (``out=0``) layout::
 
         View3D 3.2 0 <encl> <emit> <N>      (padded to 30 characters, as View3D does)
@@ -284,6 +299,7 @@ def write_energyplus(path, matrix, names, zone_name: str, *, all_pairs: bool = F
 
 # --- VTU ----------------------------------------------------------------------------------
 
+
 def write_vtu(path, polygons_vertices, faces, cell_data: dict | None = None) -> None:
     """Polygons with per-cell data as a VTK XML unstructured grid (opens in ParaView).
 
@@ -327,8 +343,16 @@ def write_vtu(path, polygons_vertices, faces, cell_data: dict | None = None) -> 
 
 # --- dispatch -----------------------------------------------------------------------------
 
-_EXT_FORMAT = {".npz": "npz", ".csv": "csv", ".txt": "view3d", ".view3d": "view3d", ".vf": "view3d",
-               ".idf": "energyplus", ".epjson": "epjson", ".vtu": "vtu"}
+_EXT_FORMAT = {
+    ".npz": "npz",
+    ".csv": "csv",
+    ".txt": "view3d",
+    ".view3d": "view3d",
+    ".vf": "view3d",
+    ".idf": "energyplus",
+    ".epjson": "epjson",
+    ".vtu": "vtu",
+}
 FORMATS = ("npz", "csv", "view3d", "energyplus", "epjson", "vtu")
 
 
@@ -342,8 +366,10 @@ def result_format(path, format: str | None = None) -> str:
         return f
     ext = os.path.splitext(os.fspath(path))[1].lower()
     if ext not in _EXT_FORMAT:
-        raise ValueError(f"{path}: cannot tell the output format from the extension {ext or '(none)'}; "
-                         "use .npz, .csv, .txt (View3D), .idf or .epJSON (EnergyPlus) or .vtu")
+        raise ValueError(
+            f"{path}: cannot tell the output format from the extension {ext or '(none)'}; "
+            "use .npz, .csv, .txt (View3D), .idf or .epJSON (EnergyPlus) or .vtu"
+        )
     return _EXT_FORMAT[ext]
 
 
@@ -353,8 +379,17 @@ def _get(result, key, default=None):
     return getattr(result, key, default)
 
 
-def write_result(path, result, *, format: str | None = None, scene=None, to_surface: str | None = None,
-                 zone_name: str | None = None, precision: int | None = None, compress: bool = False) -> None:
+def write_result(
+    path,
+    result,
+    *,
+    format: str | None = None,
+    scene=None,
+    to_surface: str | None = None,
+    zone_name: str | None = None,
+    precision: int | None = None,
+    compress: bool = False,
+) -> None:
     """Write a form-factor result in the format given by ``format`` or the extension:
     ``.npz`` (sparse, everything), ``.csv``, ``.txt`` (View3D text output), ``.idf``
     (EnergyPlus), ``.vtu`` (the scene's polygons with per-cell data; needs ``scene``).
@@ -416,11 +451,17 @@ def write_result(path, result, *, format: str | None = None, scene=None, to_surf
         emit = int(bool(meta.get("emit", 0))) if meta.get("format") == "view3d" else 0
         if emit:
             em, matrix = _view3d_script_f(path, matrix, em)
-        write_view3d(path, matrix, areas, emissivity=em, encl=int(meta.get("encl", 0) or 0),
-                     precision=6 if precision is None else precision, emit=emit)
+        write_view3d(
+            path,
+            matrix,
+            areas,
+            emissivity=em,
+            encl=int(meta.get("encl", 0) or 0),
+            precision=6 if precision is None else precision,
+            emit=emit,
+        )
     elif fmt in ("energyplus", "epjson"):
-        _write_result_energyplus(path, result, scene, zone_name, "epjson" if fmt == "epjson" else "idf",
-                                 patch_level)
+        _write_result_energyplus(path, result, scene, zone_name, "epjson" if fmt == "epjson" else "idf", patch_level)
     else:
         if scene is None:
             raise ValueError(f"{path}: VTU output needs the scene geometry (pass scene=)")
@@ -431,8 +472,10 @@ def _view3d_script_f(path, matrix, emissivity):
     """View3D's ``emit=1`` output: script-F of the surface emissivities, which View3D clamps
     to [0.001, 0.999] when it reads them (getdat.c); returns (emissivities, script-F)."""
     if emissivity is None or not np.all(np.isfinite(emissivity)):
-        raise ValueError(f"{path}: the .vs3 file says emit=1 (write script-F), which needs the emissivity "
-                         "of every surface with a row")
+        raise ValueError(
+            f"{path}: the .vs3 file says emit=1 (write script-F), which needs the emissivity "
+            "of every surface with a row"
+        )
     from ..exchange import script_f
 
     e = np.clip(np.asarray(emissivity, dtype=np.float64), 0.001, 0.999)
@@ -465,9 +508,11 @@ def _write_result_energyplus(path, result, scene, zone_name, fmt, patch_level):
     for z, rows in groups.items():
         outside = np.abs(f[np.ix_(rows, np.setdiff1d(np.arange(len(names)), rows))]).max(initial=0.0)
         if outside > 0:
-            raise ValueError(f"{path}: zone {z!r} has view factors to surfaces of other zones (up to {outside:.3g}); "
-                             "every zone is its own enclosure: compute zone by zone "
-                             "(nusselt.zones.zone_form_factors, as `nusselt matrix` does for building models)")
+            raise ValueError(
+                f"{path}: zone {z!r} has view factors to surfaces of other zones (up to {outside:.3g}); "
+                "every zone is its own enclosure: compute zone by zone "
+                "(nusselt.zones.zone_form_factors, as `nusselt matrix` does for building models)"
+            )
     if zone_name is not None:
         want = str(zone_name).strip()
         match = [z for z in zones if z.lower() == want.lower()]
@@ -477,8 +522,7 @@ def _write_result_energyplus(path, result, scene, zone_name, fmt, patch_level):
             groups = {want: groups[zones[0]]}  # rename the only zone
         else:
             raise ValueError(f"{path}: no zone named {want!r} in the result (zones: {', '.join(zones)})")
-    write_user_view_factors(path, [(z, f[np.ix_(r, r)], [names[i] for i in r]) for z, r in groups.items()],
-                            format=fmt)
+    write_user_view_factors(path, [(z, f[np.ix_(r, r)], [names[i] for i in r]) for z, r in groups.items()], format=fmt)
 
 
 def _row_emissivity(result, scene, patch_level):
