@@ -6,10 +6,10 @@
 //! Criterion reports time per pair; pairs/s = 1 / time.
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
-use nusselt_core::moments::{moment4_pair, moment_pair, Moments};
 use glam::DVec3 as V;
 use nusselt_core::geometry::Polygon;
 use nusselt_core::method::{self, Method, Options};
+use nusselt_core::moments::{moment4_pair, moment_pair, Moments};
 use nusselt_core::quadrature::{self, AreaRule, PackedRule};
 use nusselt_core::{analytic, contour};
 use std::hint::black_box;
@@ -24,11 +24,19 @@ fn cases() -> Vec<(&'static str, Polygon, Polygon)> {
     let tri = poly(&[[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]);
     vec![
         // parallel, facing, 5 sizes apart: the far-field case of a large matrix
-        ("quad-quad separated", quad.clone(), poly(&[[0.3, 0.2, 5.0], [0.3, 1.2, 5.0], [1.3, 1.2, 5.0], [1.3, 0.2, 5.0]])),
+        (
+            "quad-quad separated",
+            quad.clone(),
+            poly(&[[0.3, 0.2, 5.0], [0.3, 1.2, 5.0], [1.3, 1.2, 5.0], [1.3, 0.2, 5.0]]),
+        ),
         // parallel, facing, one size apart, offset: a neighbour across a room
         ("quad-quad near", quad.clone(), poly(&[[0.5, 0.2, 1.0], [0.5, 1.2, 1.0], [1.5, 1.2, 1.0], [1.5, 0.2, 1.0]])),
         // perpendicular with a shared edge: the corner of every box
-        ("quad-quad shared edge", quad.clone(), poly(&[[0.0, 0.0, 0.0], [0.0, 0.0, 1.0], [1.0, 0.0, 1.0], [1.0, 0.0, 0.0]])),
+        (
+            "quad-quad shared edge",
+            quad.clone(),
+            poly(&[[0.0, 0.0, 0.0], [0.0, 0.0, 1.0], [1.0, 0.0, 1.0], [1.0, 0.0, 0.0]]),
+        ),
         // perpendicular with a shared vertex only
         ("quad-quad shared vertex", quad, poly(&[[1.0, 1.0, 0.0], [1.0, 1.0, 1.0], [2.0, 1.0, 1.0], [2.0, 1.0, 0.0]])),
         ("tri-tri separated", tri.clone(), poly(&[[0.2, 0.1, 5.0], [0.2, 1.1, 5.0], [1.2, 0.1, 5.0]])),
@@ -58,7 +66,9 @@ fn pair_kernels(c: &mut Criterion) {
             let opts = Options { tol, ..Default::default() };
             let cache = method::RuleCache::new(2);
             g.bench_with_input(BenchmarkId::new(format!("auto{tol:e} cached"), name), &(&a, &b), |bch, (a, b)| {
-                bch.iter(|| method::area_factor(black_box(a), black_box(b), Method::Auto, &opts, Some((&cache, 0, 1))).unwrap())
+                bch.iter(|| {
+                    method::area_factor(black_box(a), black_box(b), Method::Auto, &opts, Some((&cache, 0, 1))).unwrap()
+                })
             });
         }
     }

@@ -42,7 +42,11 @@ fn main() {
         let b = scene.pair_block(&rows, AnyMethod::Visible(VisMethod::Auto), &o, &AtomicBool::new(false)).unwrap();
         let t1 = t.elapsed().as_secs_f64();
         let pairs = n * (n - 1) / 2;
-        println!("{n} patches, tol {tol:e}: pair rows {t1:.3} s ({:.1} M pairs/s), {} entries", pairs as f64 / t1 / 1e6, b.g.len());
+        println!(
+            "{n} patches, tol {tol:e}: pair rows {t1:.3} s ({:.1} M pairs/s), {} entries",
+            pairs as f64 / t1 / 1e6,
+            b.g.len()
+        );
         let areas: Vec<f64> = scene.polygons().iter().map(|p| p.area()).collect();
         let upper: Vec<UpperRow> = (0..n)
             .map(|i| {

@@ -56,7 +56,10 @@ fn main() {
     let (mut over, mut worst, mut time) = ([0usize; 5], [0f64; 5], [0f64; 5]);
     let mut done = 0;
     while done < cases {
-        let (Some(a), Some(b)) = (polygon(&mut r, (0.0, 0.0), (0.2, 1.0), (0.3, 0.3), 0.0), polygon(&mut r, (1.0, 1.0), (0.2, 1.0), (0.3, 0.3), 1.0)) else {
+        let (Some(a), Some(b)) = (
+            polygon(&mut r, (0.0, 0.0), (0.2, 1.0), (0.3, 0.3), 0.0),
+            polygon(&mut r, (1.0, 1.0), (0.2, 1.0), (0.3, 0.3), 1.0),
+        ) else {
             continue;
         };
         let mut polys = vec![a, b];
@@ -92,6 +95,11 @@ fn main() {
         }
     }
     for (k, tol) in tols.iter().enumerate() {
-        println!("tol {tol:e}: {:3} of {cases} pairs over target, worst {:7.2} x target, {:6.0} us per pair", over[k], worst[k], time[k] / cases as f64 * 1e6);
+        println!(
+            "tol {tol:e}: {:3} of {cases} pairs over target, worst {:7.2} x target, {:6.0} us per pair",
+            over[k],
+            worst[k],
+            time[k] / cases as f64 * 1e6
+        );
     }
 }

@@ -92,7 +92,10 @@ fn main() {
                 }
             }
             let dt = t0.elapsed().as_secs_f64();
-            println!("{evals} evals ({nonzero} shadowed), {:.2} us/eval (incl. candidate queries), checksum {total:.12e}", dt / evals as f64 * 1e6);
+            println!(
+                "{evals} evals ({nonzero} shadowed), {:.2} us/eval (incl. candidate queries), checksum {total:.12e}",
+                dt / evals as f64 * 1e6
+            );
         }
         "cands" => {
             // the candidate-blocker query of every facing pair (what every obstructed scene pays)
@@ -123,7 +126,14 @@ fn main() {
             let mut o = AllOptions::default();
             o.vis.tol = tol;
             let t0 = Instant::now();
-            let e = nusselt_core::scene::pair_view_factor(polys[i].clone(), polys[j].clone(), obs, AnyMethod::Visible(VisMethod::Auto), &o).unwrap();
+            let e = nusselt_core::scene::pair_view_factor(
+                polys[i].clone(),
+                polys[j].clone(),
+                obs,
+                AnyMethod::Visible(VisMethod::Auto),
+                &o,
+            )
+            .unwrap();
             println!("F {:.15e} in {:.3} s", e.value, t0.elapsed().as_secs_f64());
         }
         _ => panic!("mode rows|cands|points|pair"),

@@ -31,7 +31,9 @@ fn main() {
     o.vis.tol = tol;
     let m = AnyMethod::Visible(VisMethod::Auto);
     let never = AtomicBool::new(false);
-    if let (Some(i), Some(j)) = (args.get(4).and_then(|s| s.parse::<usize>().ok()), args.get(5).and_then(|s| s.parse::<usize>().ok())) {
+    if let (Some(i), Some(j)) =
+        (args.get(4).and_then(|s| s.parse::<usize>().ok()), args.get(5).and_then(|s| s.parse::<usize>().ok()))
+    {
         // one pair (i, j), every other polygon a blocker
         let p = scene.polygons();
         let obs: Vec<Polygon> = (0..n).filter(|&k| k != i && k != j).map(|k| p[k].clone()).collect();

@@ -38,13 +38,18 @@ fn main() {
     }
     let o = VisOptions { tol: 1e-10, exact_tol: 1e-12, ..Default::default() };
     let t0 = Instant::now();
-    let refs: Vec<f64> = pairs.iter().map(|&(i, j)| obstructed::pair(&ctx, i, j, VisMethod::Clipping, &o).unwrap().value).collect();
+    let refs: Vec<f64> =
+        pairs.iter().map(|&(i, j)| obstructed::pair(&ctx, i, j, VisMethod::Clipping, &o).unwrap().value).collect();
     let free: Vec<f64> = pairs
         .iter()
         .map(|&(i, j)| method::area_factor(&polys[i], &polys[j], Method::Analytic, &Default::default(), None).unwrap())
         .collect();
     let hidden = refs.iter().zip(&free).map(|(r, f)| 1.0 - r / f).sum::<f64>() / pairs.len() as f64;
-    println!("{np} patches, {} obstructed pairs (mean hidden fraction {hidden:.3}), reference in {:.1} s", pairs.len(), t0.elapsed().as_secs_f64());
+    println!(
+        "{np} patches, {} obstructed pairs (mean hidden fraction {hidden:.3}), reference in {:.1} s",
+        pairs.len(),
+        t0.elapsed().as_secs_f64()
+    );
     let mut schemes: Vec<(String, VisOptions)> = Vec::new();
     for k in 1..=4 {
         schemes.push((format!("source {k}x{k}"), VisOptions { clip_source: Some(k), ..o.clone() }));
@@ -57,11 +62,19 @@ fn main() {
         let mut errs: Vec<f64> = pairs
             .iter()
             .zip(refs.iter().zip(&free))
-            .map(|(&(i, j), (r, f))| (obstructed::pair(&ctx, i, j, VisMethod::Clipping, &q).unwrap().value - r).abs() / f)
+            .map(|(&(i, j), (r, f))| {
+                (obstructed::pair(&ctx, i, j, VisMethod::Clipping, &q).unwrap().value - r).abs() / f
+            })
             .collect();
         let us = t0.elapsed().as_secs_f64() / pairs.len() as f64 * 1e6;
         errs.sort_by(|a, b| a.total_cmp(b));
         let at = |p: usize| errs[(errs.len() * p / 100).min(errs.len() - 1)];
-        println!("{name:22} {us:9.1} us/pair   error/free: median {:.1e} p90 {:.1e} p99 {:.1e} max {:.1e}", at(50), at(90), at(99), at(100));
+        println!(
+            "{name:22} {us:9.1} us/pair   error/free: median {:.1e} p90 {:.1e} p99 {:.1e} max {:.1e}",
+            at(50),
+            at(90),
+            at(99),
+            at(100)
+        );
     }
 }

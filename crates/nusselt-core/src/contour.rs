@@ -20,8 +20,8 @@
 //!
 //! The sum is positive for polygons whose counter-clockwise outlines face each other.
 
-use crate::error::{Error, Result};
 use crate::analytic::area_routes::{if_cancelling, ILL_CONDITIONED};
+use crate::error::{Error, Result};
 use crate::geometry::{bounding_diameter, clip_pair, segment_distance, Polygon, Vec3};
 use crate::quadrature::gauss_legendre;
 use std::f64::consts::PI;
@@ -339,13 +339,23 @@ mod tests {
     #[test]
     fn table_parallel_plates() {
         let xs = [0.1, 0.2, 0.4, 0.6, 1.0, 2.0, 4.0, 10.0];
-        let exact = [0.003162056838754, 0.012403977313243, 0.046137416744875, 0.093362337840650, 0.199824895698387, 0.415253283577147, 0.632036430013860, 0.826994522397256];
+        let exact = [
+            0.003162056838754,
+            0.012403977313243,
+            0.046137416744875,
+            0.093362337840650,
+            0.199824895698387,
+            0.415253283577147,
+            0.632036430013860,
+            0.826994522397256,
+        ];
         for (x, e) in xs.iter().zip(exact) {
             let a = rect_z(0., *x, 0., *x, 0., true);
             let b = rect_z(0., *x, 0., *x, 1., false);
             let v = f(&a, &b);
             assert!(rel(v, e) < 1e-9, "X={x}: {v} vs {e} ({:.1e})", rel(v, e));
-            assert!(rel(c11(*x, *x, 1.0), e) < 1e-10, "C-11 formula vs table at X={x}"); // cancels for small X
+            assert!(rel(c11(*x, *x, 1.0), e) < 1e-10, "C-11 formula vs table at X={x}");
+            // cancels for small X
         }
     }
 
@@ -354,7 +364,9 @@ mod tests {
         let (x, y) = (a / c, b / c);
         let (x1, y1) = ((1.0 + x * x).sqrt(), (1.0 + y * y).sqrt());
         2.0 / (PI * x * y)
-            * ((x1 * x1 * y1 * y1 / (1.0 + x * x + y * y)).sqrt().ln() + x * y1 * (x / y1).atan() + y * x1 * (y / x1).atan()
+            * ((x1 * x1 * y1 * y1 / (1.0 + x * x + y * y)).sqrt().ln()
+                + x * y1 * (x / y1).atan()
+                + y * x1 * (y / x1).atan()
                 - x * x.atan()
                 - y * y.atan())
     }
@@ -373,7 +385,16 @@ mod tests {
     #[test]
     fn table_perpendicular_shared_edge() {
         let ws = [0.1, 0.2, 0.4, 0.6, 1.0, 2.0, 4.0, 10.0];
-        let exact = [0.281887806787901, 0.271036935697358, 0.250319555056282, 0.231469999626555, 0.200043776075403, 0.149299795886762, 0.101358700221681, 0.055023979528411];
+        let exact = [
+            0.281887806787901,
+            0.271036935697358,
+            0.250319555056282,
+            0.231469999626555,
+            0.200043776075403,
+            0.149299795886762,
+            0.101358700221681,
+            0.055023979528411,
+        ];
         for (w, e) in ws.iter().zip(exact) {
             // emitter z = 0, x in [0, w], y in [0, 1]; receiver x = 0, z in [0, w]
             let a = rect_z(0., *w, 0., 1., 0., true);
@@ -414,7 +435,8 @@ mod tests {
         let g = |x: f64, y: f64, e: f64, k: f64| {
             let (dx, dy) = (x - k, y - e);
             let (rx, ry) = ((dx * dx + z * z).sqrt(), (dy * dy + z * z).sqrt());
-            (dy * rx * (dy / rx).atan() + dx * ry * (dx / ry).atan() - 0.5 * z * z * (dx * dx + dy * dy + z * z).ln()) / (2.0 * PI)
+            (dy * rx * (dy / rx).atan() + dx * ry * (dx / ry).atan() - 0.5 * z * z * (dx * dx + dy * dy + z * z).ln())
+                / (2.0 * PI)
         };
         let mut s = 0.0;
         for i in 0..2 {
@@ -433,7 +455,16 @@ mod tests {
     #[test]
     fn table_perpendicular_no_shared_edge() {
         let yz = [(0.1, 0.1), (0.1, 1.0), (0.5, 0.1), (1.0, 1.0), (2.0, 2.0), (4.0, 4.0), (10.0, 10.0), (10.0, 1.0)];
-        let exact = [0.099641323889039, 0.264776412027033, 0.046900754681815, 0.154206868494109, 0.123295563178043, 0.087423913145759, 0.049213054565814, 0.020339424193314];
+        let exact = [
+            0.099641323889039,
+            0.264776412027033,
+            0.046900754681815,
+            0.154206868494109,
+            0.123295563178043,
+            0.087423913145759,
+            0.049213054565814,
+            0.020339424193314,
+        ];
         for ((y, z), e) in yz.iter().zip(exact) {
             let a = rect_z(0.1, 0.1 + y, 0., 1., 0., true);
             let b = rect_x(0., 0., 1., 0.1, 0.1 + z, true);
@@ -518,15 +549,25 @@ mod tests {
         assert!(rel(v, e) < 1e-9, "{v} vs {e} ({:.1e})", rel(v, e));
         // the whole 2x2 face against the sum of its four unit squares
         let whole = f(&a, &rect_x(0., 0., 2., 0., 2., true));
-        let parts: f64 = [(0., 0.), (1., 0.), (0., 1.), (1., 1.)].iter().map(|&(y, z)| f(&a, &rect_x(0., y, y + 1., z, z + 1., true))).sum();
+        let parts: f64 = [(0., 0.), (1., 0.), (0., 1.), (1., 1.)]
+            .iter()
+            .map(|&(y, z)| f(&a, &rect_x(0., y, y + 1., z, z + 1., true)))
+            .sum();
         assert!(rel(parts, whole) < 1e-10, "{parts} vs {whole}");
         let e_whole = perp_general([0., 1.], [0., 1.], [0., 2.], [0., 2.]);
         assert!(rel(whole, e_whole) < 1e-9, "{whole} vs {e_whole}");
         // the same with a 2x2 emitter as well: 4 x 4 pairs including every touching kind
-        let ea: Vec<Polygon> = [(0., 0.), (1., 0.), (0., 1.), (1., 1.)].iter().map(|&(x, y)| rect_z(x, x + 1., y, y + 1., 0., true)).collect();
-        let eb: Vec<Polygon> = [(0., 0.), (1., 0.), (0., 1.), (1., 1.)].iter().map(|&(y, z)| rect_x(0., y, y + 1., z, z + 1., true)).collect();
+        let ea: Vec<Polygon> = [(0., 0.), (1., 0.), (0., 1.), (1., 1.)]
+            .iter()
+            .map(|&(x, y)| rect_z(x, x + 1., y, y + 1., 0., true))
+            .collect();
+        let eb: Vec<Polygon> = [(0., 0.), (1., 0.), (0., 1.), (1., 1.)]
+            .iter()
+            .map(|&(y, z)| rect_x(0., y, y + 1., z, z + 1., true))
+            .collect();
         let sum: f64 = ea.iter().flat_map(|p| eb.iter().map(move |q| polygon_pair(p, q, DEFAULT_NODES).unwrap())).sum();
-        let big = polygon_pair(&rect_z(0., 2., 0., 2., 0., true), &rect_x(0., 0., 2., 0., 2., true), DEFAULT_NODES).unwrap();
+        let big =
+            polygon_pair(&rect_z(0., 2., 0., 2., 0., true), &rect_x(0., 0., 2., 0., 2., true), DEFAULT_NODES).unwrap();
         assert!(rel(sum, big) < 1e-10, "{sum} vs {big}");
         assert!(rel(big / 4.0, c14(2.0, 2.0, 2.0)) < 1e-9);
     }
@@ -644,7 +685,8 @@ mod tests {
         ];
         for (a, b, exact) in cases {
             let exact = if exact > 0.0 { exact } else { perp_general([1e-6, 1.0], [0., 1.], [0., 1.], [1e-6, 1.0]) };
-            let errs: Vec<f64> = [1, 2, 4, 8].iter().map(|&n| rel(polygon_pair(&a, &b, n).unwrap() / a.area(), exact)).collect();
+            let errs: Vec<f64> =
+                [1, 2, 4, 8].iter().map(|&n| rel(polygon_pair(&a, &b, n).unwrap() / a.area(), exact)).collect();
             assert!(errs.windows(2).all(|w| w[1] < w[0] || w[1] < 1e-12), "{errs:?}");
             assert!(errs[3] < 1e-9, "{errs:?}");
         }
@@ -656,9 +698,11 @@ mod tests {
         let b = poly(&[[0., 0., 0.], [0., 0.7, 1.], [1.1, 0., 0.9]]);
         let base = polygon_pair(&a, &b, DEFAULT_NODES).unwrap();
         assert!(base > 0.0);
-        let moved = |p: &Polygon, k: f64, o: Vec3| Polygon::new(p.vertices().iter().map(|v| *v * k + o).collect()).unwrap();
+        let moved =
+            |p: &Polygon, k: f64, o: Vec3| Polygon::new(p.vertices().iter().map(|v| *v * k + o).collect()).unwrap();
         for k in [1e-3, 1e3] {
-            let v = polygon_pair(&moved(&a, k, Vec3::ZERO), &moved(&b, k, Vec3::ZERO), DEFAULT_NODES).unwrap() / (k * k);
+            let v =
+                polygon_pair(&moved(&a, k, Vec3::ZERO), &moved(&b, k, Vec3::ZERO), DEFAULT_NODES).unwrap() / (k * k);
             assert!(rel(v, base) < 1e-12, "scale {k}: {v} vs {base}");
         }
         let o = Vec3::new(1e4, -1e4, 1e4);
@@ -705,7 +749,10 @@ mod tests {
                     let t = a0 + (a1 - a0) * x;
                     let v = r - (p + di * t);
                     let (u0, d) = (v.dot(dj), v.cross(dj).length());
-                    let hh = |u: f64| { let qq = u * u + d * d; (if qq > 0.0 { u * qq.ln() } else { 0.0 }) + 2.0 * d * u.atan2(d) - 2.0 * u };
+                    let hh = |u: f64| {
+                        let qq = u * u + d * d;
+                        (if qq > 0.0 { u * qq.ln() } else { 0.0 }) + 2.0 * d * u.atan2(d) - 2.0 * u
+                    };
                     total += (a1 - a0) * wx * (hh(u0 + lj) - hh(u0));
                 }
             }
@@ -731,7 +778,10 @@ mod tests {
                 }
                 Plane::Skew => panic!("coplanar case classified as skew"),
             };
-            assert!((exact - reference).abs() < 1e-11 * reference.abs().max(1.0), "{p} {q} {r} {s}: {exact} vs {reference}");
+            assert!(
+                (exact - reference).abs() < 1e-11 * reference.abs().max(1.0),
+                "{p} {q} {r} {s}: {exact} vs {reference}"
+            );
         }
         // crossing segments (0 inside the parallelogram): split into four sub-pairs
         let (p, q, r, s) = (Vec3::ZERO, Vec3::new(1., 0., 0.), Vec3::new(0.5, -0.5, 0.), Vec3::new(0.6, 0.5, 0.));

@@ -14,8 +14,10 @@ pub enum Error {
     #[error("cannot allocate {what}: {count} entries ({bytes} bytes); use a sparse threshold (threshold=) or fewer rows per block")]
     OutOfMemory { what: &'static str, count: usize, bytes: usize },
     /// One pair or row needed more work units than its budget (see [`crate::work`]).
-    #[error("{what} needs more than budget={budget} work units (visibility tests, cells or rays); raise the \
-             method's `budget` option, or choose cheaper options (a looser tol, a smaller max_depth, fewer cells)")]
+    #[error(
+        "{what} needs more than budget={budget} work units (visibility tests, cells or rays); raise the \
+             method's `budget` option, or choose cheaper options (a looser tol, a smaller max_depth, fewer cells)"
+    )]
     Budget { what: String, budget: u64 },
     /// The caller asked to stop (Ctrl-C).
     #[error("interrupted")]

@@ -119,7 +119,12 @@ impl Polygon {
 /// two lengths; a turn whose sine is within `straight` of 0 in the forward direction counts
 /// as straight. (Outlines that still carry straight vertices can share two edges in a row:
 /// the union then doubles back along one, a turn of sine 0 that is not straight.)
-pub(crate) fn join_convex<P: Copy + PartialEq>(s: &[P], t: &[P], turn: impl Fn(P, P, P) -> (f64, f64, f64), straight: f64) -> Option<Vec<P>> {
+pub(crate) fn join_convex<P: Copy + PartialEq>(
+    s: &[P],
+    t: &[P],
+    turn: impl Fn(P, P, P) -> (f64, f64, f64),
+    straight: f64,
+) -> Option<Vec<P>> {
     let (m, l) = (s.len(), t.len());
     for i in 0..m {
         let (u, v) = (s[i], s[(i + 1) % m]);
@@ -280,15 +285,13 @@ pub fn bounding_diameter(v: &[Vec3]) -> f64 {
 /// The largest cross product (v_i - v_0) x (v_{i+1} - v_0): a plane normal even when the
 /// signed area cancels.
 fn widest_cross(v: &[Vec3]) -> Option<Vec3> {
-    (1..v.len() - 1)
-        .map(|i| (v[i] - v[0]).cross(v[i + 1] - v[0]))
-        .max_by(|a, b| a.length().total_cmp(&b.length()))
+    (1..v.len() - 1).map(|i| (v[i] - v[0]).cross(v[i + 1] - v[0])).max_by(|a, b| a.length().total_cmp(&b.length()))
 }
 
 fn drop_repeated(v: Vec<Vec3>, tol: f64) -> Vec<Vec3> {
     let mut out: Vec<Vec3> = Vec::with_capacity(v.len());
     for p in v {
-        if out.last().map_or(true, |q| q.distance(p) > tol) {
+        if out.last().is_none_or(|q| q.distance(p) > tol) {
             out.push(p);
         }
     }
@@ -449,7 +452,11 @@ pub fn clip_to_halfspace(v: &[Vec3], p: Vec3, n: Vec3, tol: f64, out: &mut Vec<V
     // signed distances, on the stack for the usual small polygons
     let dist = |x: &Vec3| {
         let s = (*x - p).dot(n);
-        if s.abs() <= tol { 0.0 } else { s }
+        if s.abs() <= tol {
+            0.0
+        } else {
+            s
+        }
     };
     let mut small = [0.0f64; 16];
     let heap: Vec<f64>;
@@ -547,7 +554,11 @@ mod tests {
     /// of the exact direction, where plain arithmetic is off by ~eps / 1e-9.
     #[test]
     fn accurate_normal_of_a_needle() {
-        let pts: [[i64; 3]; 3] = [[1_234_567_891, -2_345_678_912, 3_456_789_123], [567_891_234, 3_345_678_912, -456_789_123], [901_229_563, 499_999_999, 1_500_000_001]];
+        let pts: [[i64; 3]; 3] = [
+            [1_234_567_891, -2_345_678_912, 3_456_789_123],
+            [567_891_234, 3_345_678_912, -456_789_123],
+            [901_229_563, 499_999_999, 1_500_000_001],
+        ];
         let e = |i: usize, k: usize| (pts[i][k] - pts[0][k]) as i128;
         let exact = [
             e(1, 1) * e(2, 2) - e(1, 2) * e(2, 1),
@@ -562,7 +573,10 @@ mod tests {
         let got = accurate_normal(&v).normalize();
         assert!((got - want).length() < 4.0 * f64::EPSILON, "{got} {want}");
         let plain = newell_normal(&v).normalize();
-        assert!((plain - want).length() > 1e3 * f64::EPSILON, "plain arithmetic is this exact too: the needle is too easy");
+        assert!(
+            (plain - want).length() > 1e3 * f64::EPSILON,
+            "plain arithmetic is this exact too: the needle is too easy"
+        );
     }
 
     fn sq(s: f64) -> Vec<Vec3> {
@@ -597,11 +611,8 @@ mod tests {
         ];
         let p = Polygon::new(v.clone()).unwrap();
         assert!((p.area() - 3.0).abs() < 1e-14);
-        let tri_area: f64 = p
-            .triangulate()
-            .iter()
-            .map(|t| 0.5 * (v[t[1]] - v[t[0]]).cross(v[t[2]] - v[t[0]]).dot(Vec3::Z))
-            .sum();
+        let tri_area: f64 =
+            p.triangulate().iter().map(|t| 0.5 * (v[t[1]] - v[t[0]]).cross(v[t[2]] - v[t[0]]).dot(Vec3::Z)).sum();
         assert!((tri_area - 3.0).abs() < 1e-14, "{tri_area}");
         // every triangle is positively oriented (no ear across the notch)
         for t in p.triangulate() {
@@ -614,14 +625,8 @@ mod tests {
         let mut v = sq(1.0);
         v[2].x = f64::NAN;
         assert_eq!(Polygon::new(v).unwrap_err(), GeometryError::NonFinite(2));
-        assert_eq!(
-            Polygon::new(vec![Vec3::ZERO, Vec3::X, Vec3::X]).unwrap_err(),
-            GeometryError::TooFewVertices(2)
-        );
-        assert_eq!(
-            Polygon::new(vec![Vec3::ZERO, Vec3::X, 2.0 * Vec3::X]).unwrap_err(),
-            GeometryError::ZeroArea
-        );
+        assert_eq!(Polygon::new(vec![Vec3::ZERO, Vec3::X, Vec3::X]).unwrap_err(), GeometryError::TooFewVertices(2));
+        assert_eq!(Polygon::new(vec![Vec3::ZERO, Vec3::X, 2.0 * Vec3::X]).unwrap_err(), GeometryError::ZeroArea);
         let mut v = sq(1.0);
         v[2].z = 1e-3;
         assert!(matches!(Polygon::new(v).unwrap_err(), GeometryError::NonPlanar { .. }));

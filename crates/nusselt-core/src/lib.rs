@@ -13,13 +13,13 @@ pub mod method;
 pub mod moments;
 pub mod obstructed;
 pub mod quadrature;
+pub mod registry;
 pub mod sampling;
 pub mod scene;
 pub mod special;
 pub mod unobstructed_rows;
 pub mod visibility;
 pub mod work;
-pub mod registry;
 
 pub use error::Error;
 pub use geometry::{Polygon, Vec3};

@@ -195,7 +195,12 @@ pub fn flatten_pair_rows(rows: &[PairRow]) -> Result<PairBlock> {
     let mut g = try_filled("a block's entries", nnz, 0.0f64)?;
     let mut std = if with_std { try_filled("a block's standard errors", nnz, 0.0f64)? } else { Vec::new() };
     let lens = || rows.iter().map(|r| r.len());
-    let jobs: Vec<_> = rows.iter().zip(split_lengths(&mut cols, lens())).zip(split_lengths(&mut g, lens())).zip(split_lengths(&mut std, lens())).collect();
+    let jobs: Vec<_> = rows
+        .iter()
+        .zip(split_lengths(&mut cols, lens()))
+        .zip(split_lengths(&mut g, lens()))
+        .zip(split_lengths(&mut std, lens()))
+        .collect();
     jobs.into_par_iter().with_min_len(64).for_each(|(((r, c), gg), sd)| {
         for (dst, &j) in c.iter_mut().zip(&r.cols) {
             *dst = j as i32;
@@ -309,7 +314,8 @@ pub fn mirror_upper(areas: &[f64], rows: &[UpperRow<'_>], with_std: bool) -> Res
         const TILE: usize = 64;
         let mut next: Vec<usize> = (lo..hi).map(|r| count[r] as usize - base).collect();
         // where source row k's columns inside the current output tile start
-        let mut cursor: Vec<usize> = (0..hi).map(|k| by_row[k].map_or(0, |b| rows[b].cols.partition_point(|&j| (j as usize) < lo))).collect();
+        let mut cursor: Vec<usize> =
+            (0..hi).map(|k| by_row[k].map_or(0, |b| rows[b].cols.partition_point(|&j| (j as usize) < lo))).collect();
         let mut cnt = [0usize; TILE];
         let mut buf_k = vec![0i32; TILE * TILE];
         let mut buf_g = vec![0.0f64; TILE * TILE];
@@ -386,10 +392,17 @@ mod tests {
         let receiver = vec![true, true, false, true, true];
         let rows: Vec<usize> = (0..n).collect();
         let calls = std::sync::atomic::AtomicUsize::new(0);
-        let out = upper_pair_rows(n, &rows, &receiver, &AtomicBool::new(false), |_, _| false, |i, j| {
-            calls.fetch_add(1, Ordering::Relaxed);
-            Ok(Some((10 * i + j) as f64))
-        })
+        let out = upper_pair_rows(
+            n,
+            &rows,
+            &receiver,
+            &AtomicBool::new(false),
+            |_, _| false,
+            |i, j| {
+                calls.fetch_add(1, Ordering::Relaxed);
+                Ok(Some((10 * i + j) as f64))
+            },
+        )
         .unwrap();
         // pairs among receivers {0,1,3,4}: 6 unordered pairs
         assert_eq!(calls.load(Ordering::Relaxed), 6);
@@ -428,10 +441,11 @@ mod tests {
         let s = s.unwrap();
         assert_eq!(s.indices, f.indices);
         assert_eq!(s.data[0], 0.1 / 1.0); // row 0, column 1
-        // malformed input is an error, not a panic
+                                          // malformed input is an error, not a panic
         let bad = [UpperRow { row: 1, cols: &[0i32], g: &[1.0], std: None }];
         assert!(mirror_upper(&areas, &bad, false).is_err());
-        let twice = [UpperRow { row: 0, cols: &[], g: &[], std: None }, UpperRow { row: 0, cols: &[], g: &[], std: None }];
+        let twice =
+            [UpperRow { row: 0, cols: &[], g: &[], std: None }, UpperRow { row: 0, cols: &[], g: &[], std: None }];
         assert!(mirror_upper(&areas, &twice, false).is_err());
     }
 
@@ -458,7 +472,8 @@ mod tests {
             let sd: Vec<f64> = g.iter().map(|v| 0.5 * v).collect();
             data.push((i, cols, g, sd));
         }
-        let rows: Vec<UpperRow> = data.iter().map(|(i, c, g, sd)| UpperRow { row: *i, cols: c, g, std: Some(sd) }).collect();
+        let rows: Vec<UpperRow> =
+            data.iter().map(|(i, c, g, sd)| UpperRow { row: *i, cols: c, g, std: Some(sd) }).collect();
         let (f, sd) = mirror_upper(&areas, &rows, true).unwrap();
         let sd = sd.unwrap();
         let mut want = vec![vec![0.0; n]; n];

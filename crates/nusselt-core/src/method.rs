@@ -162,7 +162,14 @@ pub fn area_factor_facing(
 
 /// `auto` for an unobstructed pair whose facing `f` is known, with the plan of its tolerance
 /// and whether both are regular quads (scene loops know both once for all pairs).
-pub fn auto_pair(a: &Polygon, b: &Polygon, f: Facing, plan: &FarPlan, regular: bool, cache: Option<(&RuleCache, usize, usize)>) -> f64 {
+pub fn auto_pair(
+    a: &Polygon,
+    b: &Polygon,
+    f: Facing,
+    plan: &FarPlan,
+    regular: bool,
+    cache: Option<(&RuleCache, usize, usize)>,
+) -> f64 {
     match f {
         Facing::None => 0.0,
         Facing::Partial => analytic::polygon_pair_within(a, b, plan.tol()),
@@ -174,7 +181,13 @@ pub fn auto_pair(a: &Polygon, b: &Polygon, f: Facing, plan: &FarPlan, regular: b
 }
 
 /// A_a F_ab of a fully facing, unobstructed pair by `rule` (from a [`FarPlan`] for `tol`).
-pub fn full_facing_pair(a: &Polygon, b: &Polygon, rule: FarRule, tol: f64, cache: Option<(&RuleCache, usize, usize)>) -> f64 {
+pub fn full_facing_pair(
+    a: &Polygon,
+    b: &Polygon,
+    rule: FarRule,
+    tol: f64,
+    cache: Option<(&RuleCache, usize, usize)>,
+) -> f64 {
     match rule {
         FarRule::Gauss(order) if order <= MAX_AUTO_ORDER => match cache {
             Some((c, ia, ib)) => quadrature::far_pair(c.get(ia, a, order), a.normal(), c.get(ib, b, order), b.normal()),

@@ -97,7 +97,11 @@ impl Moments {
 /// M d for the packed symmetric moments m (xx, xy, xz, yy, yz, zz).
 #[inline(always)]
 fn times(m: &[f64; 6], d: Vec3) -> Vec3 {
-    Vec3::new(m[0] * d.x + m[1] * d.y + m[2] * d.z, m[1] * d.x + m[3] * d.y + m[4] * d.z, m[2] * d.x + m[4] * d.y + m[5] * d.z)
+    Vec3::new(
+        m[0] * d.x + m[1] * d.y + m[2] * d.z,
+        m[1] * d.x + m[3] * d.y + m[4] * d.z,
+        m[2] * d.x + m[4] * d.y + m[5] * d.z,
+    )
 }
 
 /// pq plus the second-order terms: the bracket of the module docs (t = 1/(d·d)).
@@ -151,14 +155,20 @@ pub(crate) fn fourth_order_term(d: Vec3, na: Vec3, nb: Vec3, ea: &[Vec3; 2], eb:
     let ma_mb = MU22 * (g11 * g11 + g12 * g12 + g21 * g21 + g22 * g22);
     // fourth moments of each polygon
     let q4 = |w1: f64, w2: f64| MU4 * (w1 * w1 * w1 * w1 + w2 * w2 * w2 * w2) + 6.0 * MU22 * (w1 * w1) * (w2 * w2);
-    let q31 = |v1: f64, v2: f64, w1: f64, w2: f64| MU4 * (v1 * w1 * w1 * w1 + v2 * w2 * w2 * w2) + 3.0 * MU22 * (v1 * w1 * w2 * w2 + v2 * w2 * w1 * w1);
+    let q31 = |v1: f64, v2: f64, w1: f64, w2: f64| {
+        MU4 * (v1 * w1 * w1 * w1 + v2 * w2 * w2 * w2) + 3.0 * MU22 * (v1 * w1 * w2 * w2 + v2 * w2 * w1 * w1)
+    };
     let qtr = |v1: f64, v2: f64, w1: f64, w2: f64, l1: f64, l2: f64, c: f64| {
         v1 * w1 * (MU4 * l1 + MU22 * l2) + v2 * w2 * (MU22 * l1 + MU4 * l2) + 2.0 * MU22 * c * (v1 * w2 + v2 * w1)
     };
     let x4 = |l1: f64, l2: f64, c: f64| MU4 * (l1 * l1 + l2 * l2) + 2.0 * MU22 * (l1 * l2 + 2.0 * c * c);
     // the expectations of the module docs
     let e_d4 = q4(da1, da2) + q4(db1, db2) + 6.0 * ma_dd * mb_dd;
-    let e_d2w = qtr(da1, da2, da1, da2, la1, la2, ca) + qtr(db1, db2, db1, db2, lb1, lb2, cb) + mb_dd * tra + ma_dd * trb + 4.0 * mad_mbd;
+    let e_d2w = qtr(da1, da2, da1, da2, la1, la2, ca)
+        + qtr(db1, db2, db1, db2, lb1, lb2, cb)
+        + mb_dd * tra
+        + ma_dd * trb
+        + 4.0 * mad_mbd;
     let e_w2 = x4(la1, la2, ca) + x4(lb1, lb2, cb) + 2.0 * tra * trb + 4.0 * ma_mb;
     let e_ad3 = q31(vb1, vb2, db1, db2) + 3.0 * mb_nd * ma_dd;
     let e_adw = qtr(vb1, vb2, db1, db2, lb1, lb2, cb) + mb_nd * tra + 2.0 * mad_mbn;
@@ -181,7 +191,17 @@ pub(crate) fn fourth_order_term(d: Vec3, na: Vec3, nb: Vec3, ea: &[Vec3; 2], eb:
 /// (`unobstructed_rows`), which gathers b's numbers from arrays.
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
-pub(crate) fn moment_rule_formula(d: Vec3, na: Vec3, nb: Vec3, ma: &[f64; 6], mb: &[f64; 6], ea: &[Vec3; 2], eb: &[Vec3; 2], area_product: f64, fourth: bool) -> f64 {
+pub(crate) fn moment_rule_formula(
+    d: Vec3,
+    na: Vec3,
+    nb: Vec3,
+    ma: &[f64; 6],
+    mb: &[f64; 6],
+    ea: &[Vec3; 2],
+    eb: &[Vec3; 2],
+    area_product: f64,
+    fourth: bool,
+) -> f64 {
     let t = 1.0 / d.dot(d);
     let t4 = fourth_order_term(d, na, nb, ea, eb, t);
     let bracket = second_order_bracket(d, na, nb, ma, mb, t) + if fourth { t4 } else { 0.0 };
@@ -193,7 +213,17 @@ pub(crate) fn moment_rule_formula(d: Vec3, na: Vec3, nb: Vec3, ma: &[f64; 6], mb
 /// Symmetric in a and b up to rounding.
 #[inline(always)]
 pub fn moment_pair(a: &Moments, b: &Moments) -> f64 {
-    moment_rule_formula(b.centroid - a.centroid, a.normal, b.normal, &a.m, &b.m, &a.edges, &b.edges, a.area * b.area, false)
+    moment_rule_formula(
+        b.centroid - a.centroid,
+        a.normal,
+        b.normal,
+        &a.m,
+        &b.m,
+        &a.edges,
+        &b.edges,
+        a.area * b.area,
+        false,
+    )
 }
 
 /// A_a F_ab by the fourth-order moment rule (module docs); for two parallelograms (e.g.
@@ -201,7 +231,17 @@ pub fn moment_pair(a: &Moments, b: &Moments) -> f64 {
 /// apart compared with their size. Symmetric in a and b up to rounding.
 #[inline(always)]
 pub fn moment4_pair(a: &Moments, b: &Moments) -> f64 {
-    moment_rule_formula(b.centroid - a.centroid, a.normal, b.normal, &a.m, &b.m, &a.edges, &b.edges, a.area * b.area, true)
+    moment_rule_formula(
+        b.centroid - a.centroid,
+        a.normal,
+        b.normal,
+        &a.m,
+        &b.m,
+        &a.edges,
+        &b.edges,
+        a.area * b.area,
+        true,
+    )
 }
 
 /// The centroid (one-point) rule: A_a A_b K(c_b - c_a), for comparison and for pairs so far
@@ -303,7 +343,11 @@ mod tests {
         let mut rng = Rng(99);
         let mut worst = 0.0f64;
         for _ in 0..40 {
-            let (a, b) = crate::quadrature::tests::random_far_pair_of(&mut rng, 16.0, crate::quadrature::tests::random_regular_outline);
+            let (a, b) = crate::quadrature::tests::random_far_pair_of(
+                &mut rng,
+                16.0,
+                crate::quadrature::tests::random_regular_outline,
+            );
             let r = reference_aff(&a, &b, 20);
             let (ma, mb) = (Moments::new(&a), Moments::new(&b));
             let e4 = (moment4_pair(&ma, &mb) - r).abs() / r;
@@ -337,7 +381,12 @@ mod tests {
     /// a compensated Gauss reference of orders `refs(s)` = (high, low), the difference of the
     /// two (the reference's uncertainty) added to each error, printed as the Rust table `name`.
     /// Rows in parallel.
-    fn print_calibration(name: &str, pairs: &[Vec<(Polygon, Polygon)>], refs: fn(f64) -> (usize, usize), rule: fn(&Moments, &Moments) -> f64) {
+    fn print_calibration(
+        name: &str,
+        pairs: &[Vec<(Polygon, Polygon)>],
+        refs: fn(f64) -> (usize, usize),
+        rule: fn(&Moments, &Moments) -> f64,
+    ) {
         use rayon::prelude::*;
         let seps = crate::quadrature::FAR_SEPS;
         let rows: Vec<(f64, f64)> = seps
@@ -363,7 +412,10 @@ mod tests {
     }
 
     /// NUSSELT_CAL_SAMPLES random pairs (default 300) per FAR_SEPS entry from `pair`.
-    fn calibration_pairs(seed: u64, pair: impl Fn(&mut Rng, f64) -> (Polygon, Polygon)) -> Vec<Vec<(Polygon, Polygon)>> {
+    fn calibration_pairs(
+        seed: u64,
+        pair: impl Fn(&mut Rng, f64) -> (Polygon, Polygon),
+    ) -> Vec<Vec<(Polygon, Polygon)>> {
         let samples: usize = std::env::var("NUSSELT_CAL_SAMPLES").ok().and_then(|s| s.parse().ok()).unwrap_or(300);
         let mut rng = Rng(seed);
         crate::quadrature::FAR_SEPS.iter().map(|&s| (0..samples).map(|_| pair(&mut rng, s)).collect()).collect()

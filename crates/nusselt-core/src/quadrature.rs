@@ -236,7 +236,8 @@ impl AreaRule {
         self.weights.reserve(order * order);
         for &(u, wu) in g {
             for &(t, wt) in g {
-                let x = v[0] * ((1.0 - u) * (1.0 - t)) + v[1] * (u * (1.0 - t)) + v[2] * (u * t) + v[3] * ((1.0 - u) * t);
+                let x =
+                    v[0] * ((1.0 - u) * (1.0 - t)) + v[1] * (u * (1.0 - t)) + v[2] * (u * t) + v[3] * ((1.0 - u) * t);
                 let xu = (v[1] - v[0]) * (1.0 - t) + (v[2] - v[3]) * t;
                 let xt = (v[3] - v[0]) * (1.0 - u) + (v[2] - v[1]) * u;
                 self.points.push(x);
@@ -260,10 +261,18 @@ impl AreaRule {
 /// The triangle rule of [`AreaRule`] (collapsed Gauss-Jacobi(1,0) x Gauss-Legendre, order^2
 /// points) on the triangle p0 p1 p2 whose twice area the caller gives (signed for signed fans;
 /// exact quarters for midpoint children, where recomputing it would add rounding).
-pub(crate) fn triangle_rule(p0: Vec3, p1: Vec3, p2: Vec3, twice_area: f64, order: usize) -> impl Iterator<Item = (Vec3, f64)> {
+pub(crate) fn triangle_rule(
+    p0: Vec3,
+    p1: Vec3,
+    p2: Vec3,
+    twice_area: f64,
+    order: usize,
+) -> impl Iterator<Item = (Vec3, f64)> {
     let (gj, gl) = (gauss_jacobi10(order), gauss_legendre(order));
     let (e1, e2) = (p1 - p0, p2 - p0);
-    gj.iter().flat_map(move |&(u, wu)| gl.iter().map(move |&(t, wt)| (p0 + e1 * u + e2 * ((1.0 - u) * t), twice_area * wu * wt)))
+    gj.iter().flat_map(move |&(u, wu)| {
+        gl.iter().map(move |&(t, wt)| (p0 + e1 * u + e2 * ((1.0 - u) * t), twice_area * wu * wt))
+    })
 }
 
 /// Convex (strictly, counter-clockwise about n) quadrilateral: every corner turns left.
@@ -420,9 +429,20 @@ type Groups<'g> = &'g [[f64; LANES]];
 /// over the chunk's lane groups of w_l ca_l / |y_l - point|⁴ to `tot` (one sum per lane until
 /// the end: a horizontal sum per point of a was the loop's longest dependency chain).
 #[inline(always)]
-fn far_pair_with(a: &PackedRule, na: Vec3, b: &PackedRule, nb: Vec3, sums: impl Fn(Groups, Groups, Groups, Groups, Vec3, f64, &mut [f64; LANES])) -> f64 {
+fn far_pair_with(
+    a: &PackedRule,
+    na: Vec3,
+    b: &PackedRule,
+    nb: Vec3,
+    sums: impl Fn(Groups, Groups, Groups, Groups, Vec3, f64, &mut [f64; LANES]),
+) -> f64 {
     // b's points in chunks of FAR_CHUNK lane groups: w_l * ca_l on the stack per chunk
-    let (bx, by, bz, bwt) = (b.x.as_chunks::<LANES>().0, b.y.as_chunks::<LANES>().0, b.z.as_chunks::<LANES>().0, b.w.as_chunks::<LANES>().0);
+    let (bx, by, bz, bwt) = (
+        b.x.as_chunks::<LANES>().0,
+        b.y.as_chunks::<LANES>().0,
+        b.z.as_chunks::<LANES>().0,
+        b.w.as_chunks::<LANES>().0,
+    );
     let mut tot = [0.0f64; LANES];
     let mut bw = [[0.0f64; LANES]; FAR_CHUNK];
     for start in (0..bx.len()).step_by(FAR_CHUNK) {
@@ -470,7 +490,14 @@ unsafe fn lane_sums_avx2(cx: Groups, cy: Groups, cz: Groups, bw: Groups, x: Vec3
     let mut acc = _mm256_setzero_pd();
     for (((px, py), pz), pw) in cx.iter().zip(cy).zip(cz).zip(bw) {
         // SAFETY: each load reads one whole [f64; 4].
-        let (px, py, pz, pw) = unsafe { (_mm256_loadu_pd(px.as_ptr()), _mm256_loadu_pd(py.as_ptr()), _mm256_loadu_pd(pz.as_ptr()), _mm256_loadu_pd(pw.as_ptr())) };
+        let (px, py, pz, pw) = unsafe {
+            (
+                _mm256_loadu_pd(px.as_ptr()),
+                _mm256_loadu_pd(py.as_ptr()),
+                _mm256_loadu_pd(pz.as_ptr()),
+                _mm256_loadu_pd(pw.as_ptr()),
+            )
+        };
         let (dx, dy, dz) = (_mm256_sub_pd(px, vx), _mm256_sub_pd(py, vy), _mm256_sub_pd(pz, vz));
         let r2 = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy)), _mm256_mul_pd(dz, dz));
         acc = _mm256_add_pd(acc, _mm256_div_pd(pw, _mm256_mul_pd(r2, r2)));
@@ -484,7 +511,10 @@ unsafe fn lane_sums_avx2(cx: Groups, cy: Groups, cz: Groups, bw: Groups, x: Vec3
 
 /// Calibrated worst-case relative errors (rows: FAR_SEPS; columns: orders 1..=MAX_FAR_ORDER),
 /// printed by `calibrate_far_field`.
-pub(crate) const FAR_SEPS: &[f64] = &[1.05, 1.1, 1.2, 1.3, 1.4, 1.5, 1.75, 2.0, 2.5, 3.0, 4.0, 5.0, 6.0, 8.0, 10.0, 12.0, 16.0, 24.0, 32.0, 48.0, 64.0, 96.0, 128.0, 256.0, 512.0, 1024.0];
+pub(crate) const FAR_SEPS: &[f64] = &[
+    1.05, 1.1, 1.2, 1.3, 1.4, 1.5, 1.75, 2.0, 2.5, 3.0, 4.0, 5.0, 6.0, 8.0, 10.0, 12.0, 16.0, 24.0, 32.0, 48.0, 64.0,
+    96.0, 128.0, 256.0, 512.0, 1024.0,
+];
 #[rustfmt::skip]
 const FAR_ERRS: &[[f64; MAX_FAR_ORDER]] = &[
     [8.9e-01, 6.4e-01, 4.4e-01, 2.8e-01, 1.7e-01, 9.4e-02, 5.1e-02, 2.7e-02, 1.4e-02, 6.9e-03, 3.4e-03, 1.7e-03, 8.2e-04, 4.0e-04, 1.9e-04, 9.2e-05], // 1.05
@@ -800,8 +830,17 @@ struct Thresholds {
 }
 
 impl Thresholds {
-    fn new(rel_tol: f64, gauss_errs: &[[f64; MAX_FAR_ORDER]], moment_errs: &[f64], moment4_errs: Option<&[f64]>) -> Thresholds {
-        let mut t = Thresholds { gauss_sq: [f64::INFINITY; MAX_FAR_ORDER], moment_sq: f64::INFINITY, moment4_sq: f64::INFINITY };
+    fn new(
+        rel_tol: f64,
+        gauss_errs: &[[f64; MAX_FAR_ORDER]],
+        moment_errs: &[f64],
+        moment4_errs: Option<&[f64]>,
+    ) -> Thresholds {
+        let mut t = Thresholds {
+            gauss_sq: [f64::INFINITY; MAX_FAR_ORDER],
+            moment_sq: f64::INFINITY,
+            moment4_sq: f64::INFINITY,
+        };
         if !(rel_tol.is_finite() && rel_tol > 0.0 && FLOOR * FAR_SAFETY <= rel_tol) {
             return t;
         }
@@ -840,7 +879,9 @@ impl Thresholds {
         if dist_sq >= self.moment4_sq * radii_sq {
             return FarRule::Moment4;
         }
-        (0..MAX_FAR_ORDER).find(|&n| dist_sq >= self.gauss_sq[n] * radii_sq).map_or(FarRule::Exact, |n| FarRule::Gauss(n + 1))
+        (0..MAX_FAR_ORDER)
+            .find(|&n| dist_sq >= self.gauss_sq[n] * radii_sq)
+            .map_or(FarRule::Exact, |n| FarRule::Gauss(n + 1))
     }
 }
 
@@ -883,7 +924,11 @@ impl FarPlan {
     /// The squared relative separation from which the moment rule is chosen, for pairs of
     /// regular quads or others.
     pub fn moment_from_sq(&self, regular: bool) -> f64 {
-        if regular { self.regular.moment_sq } else { self.general.moment_sq }
+        if regular {
+            self.regular.moment_sq
+        } else {
+            self.general.moment_sq
+        }
     }
 
     /// The squared relative separation from which the fourth-order moment rule is chosen for
@@ -901,7 +946,11 @@ impl FarPlan {
     /// square root: scene loops call this for every pair).
     #[inline]
     pub fn rule_sq(&self, dist_sq: f64, radii_sq: f64, regular: bool) -> FarRule {
-        if regular { self.regular.rule(dist_sq, radii_sq) } else { self.general.rule(dist_sq, radii_sq) }
+        if regular {
+            self.regular.rule(dist_sq, radii_sq)
+        } else {
+            self.general.rule(dist_sq, radii_sq)
+        }
     }
 }
 
@@ -946,7 +995,10 @@ pub(crate) mod tests {
             for k in 0..2 * n {
                 let q: f64 = g.iter().map(|&(x, w)| w * x.powi(k as i32)).sum();
                 let exact = 1.0 / (k as f64 + 1.0);
-                assert!((q - exact).abs() <= 4e-15 * exact.max(1e-3) * (1.0 + k as f64 / 8.0), "n={n} k={k}: {q} vs {exact}");
+                assert!(
+                    (q - exact).abs() <= 4e-15 * exact.max(1e-3) * (1.0 + k as f64 / 8.0),
+                    "n={n} k={k}: {q} vs {exact}"
+                );
             }
             // not exact one degree higher (n <= 10 where the defect is above rounding)
             if n <= 10 {
@@ -1022,7 +1074,7 @@ pub(crate) mod tests {
             (vec![[0., 0.], [1.3, 0.2], [0.4, 0.9]], 1),
             (vec![[0., 0.], [2., 0.], [2.5, 1.], [0.5, 1.]], 1),
             (vec![[0., 0.], [2., 0.3], [1.7, 1.4], [-0.2, 0.8]], 2), // (order 1: degree 1, below)
-            (vec![[0., 0.], [2., 0.], [1., 0.4], [0.9, 2.]], 1), // concave quad: triangulated
+            (vec![[0., 0.], [2., 0.], [1., 0.4], [0.9, 2.]], 1),     // concave quad: triangulated
             (vec![[0., 0.], [2., 0.], [2., 1.], [1., 1.], [1., 2.], [0., 2.]], 1), // L shape
             (vec![[0., 0.], [1., -0.3], [1.8, 0.4], [1.2, 1.3], [0.1, 1.0]], 1),
         ];
@@ -1033,7 +1085,10 @@ pub(crate) mod tests {
                 let wsum: f64 = r.weights.iter().sum();
                 assert!((wsum - p.area()).abs() <= 1e-13 * p.area(), "weights sum {wsum} vs area {}", p.area());
                 assert!(r.weights.iter().all(|&w| w > 0.0));
-                assert!(r.points.iter().all(|x| ((*x - p.centroid()).dot(p.normal())).abs() < 1e-12 * (1.0 + x.length())));
+                assert!(r
+                    .points
+                    .iter()
+                    .all(|x| ((*x - p.centroid()).dot(p.normal())).abs() < 1e-12 * (1.0 + x.length())));
                 let deg = if order == 1 { 1 } else { 2 * order as i32 - *defect as i32 };
                 for a in 0..=deg {
                     for b in 0..=deg - a {
@@ -1047,7 +1102,6 @@ pub(crate) mod tests {
         }
     }
 
-
     /// A random outline in the plane (triangles, convex and concave quads, convex 5-6-gons),
     /// including slivers; not normalised.
     pub(crate) fn random_outline(rng: &mut Rng) -> Vec<[f64; 2]> {
@@ -1060,7 +1114,12 @@ pub(crate) mod tests {
                 let mut ang: Vec<f64> = (0..4).map(|_| rng.range(0., 2. * PI)).collect();
                 ang.sort_by(f64::total_cmp);
                 let stretch = rng.range(0.05, 1.0);
-                ang.iter().map(|t| { let r = rng.range(0.3, 1.0); [r * t.cos(), stretch * r * t.sin()] }).collect()
+                ang.iter()
+                    .map(|t| {
+                        let r = rng.range(0.3, 1.0);
+                        [r * t.cos(), stretch * r * t.sin()]
+                    })
+                    .collect()
             } else {
                 let k = 5 + (rng.unit() * 2.0) as usize;
                 let mut ang: Vec<f64> = (0..k).map(|_| rng.range(0., 2. * PI)).collect();
@@ -1068,7 +1127,12 @@ pub(crate) mod tests {
                 let stretch = rng.range(0.1, 1.0);
                 ang.iter().map(|t| [t.cos(), stretch * t.sin()]).collect()
             };
-            let a2 = (0..v.len()).map(|i| { let (p, q) = (v[i], v[(i + 1) % v.len()]); p[0] * q[1] - p[1] * q[0] }).sum::<f64>();
+            let a2 = (0..v.len())
+                .map(|i| {
+                    let (p, q) = (v[i], v[(i + 1) % v.len()]);
+                    p[0] * q[1] - p[1] * q[0]
+                })
+                .sum::<f64>();
             if a2.abs() > 1e-3 {
                 return if a2 > 0.0 { v } else { v.into_iter().rev().collect() };
             }
@@ -1097,13 +1161,22 @@ pub(crate) mod tests {
         let ang = rng.range(0.25 * PI, 0.75 * PI);
         let (e1, e2) = ([1.0, 0.0], [ratio * ang.cos(), ratio * ang.sin()]);
         let o = [-(e1[0] + e2[0]) / 2.0, -(e1[1] + e2[1]) / 2.0];
-        vec![o, [o[0] + e1[0], o[1] + e1[1]], [o[0] + e1[0] + e2[0], o[1] + e1[1] + e2[1]], [o[0] + e2[0], o[1] + e2[1]]]
+        vec![
+            o,
+            [o[0] + e1[0], o[1] + e1[1]],
+            [o[0] + e1[0] + e2[0], o[1] + e1[1] + e2[1]],
+            [o[0] + e2[0], o[1] + e2[1]],
+        ]
     }
 
     /// A pair at relative separation `sep` as in the calibration: b of size ratio 1/20..20,
     /// oriented at random (a fifth perpendicular, a tenth nearly opposed), half of the pairs
     /// with b resting on a's plane, each wholly in front of the other.
-    pub(crate) fn random_far_pair_of(rng: &mut Rng, sep: f64, outline: fn(&mut Rng) -> Vec<[f64; 2]>) -> (Polygon, Polygon) {
+    pub(crate) fn random_far_pair_of(
+        rng: &mut Rng,
+        sep: f64,
+        outline: fn(&mut Rng) -> Vec<[f64; 2]>,
+    ) -> (Polygon, Polygon) {
         loop {
             let Some(a) = make_polygon(&outline(rng), Vec3::Z, 1.0, Vec3::ZERO) else { continue };
             let rb = (rng.range(-1., 1.) * 20f64.ln()).exp();
@@ -1218,7 +1291,10 @@ pub(crate) mod tests {
     #[test]
     #[ignore]
     fn calibrate_far_field() {
-        let seps = [1.05, 1.1, 1.2, 1.3, 1.4, 1.5, 1.75, 2.0, 2.5, 3.0, 4.0, 5.0, 6.0, 8.0, 10.0, 12.0, 16.0, 24.0, 32.0, 48.0, 64.0, 96.0, 128.0, 256.0, 512.0, 1024.0];
+        let seps = [
+            1.05, 1.1, 1.2, 1.3, 1.4, 1.5, 1.75, 2.0, 2.5, 3.0, 4.0, 5.0, 6.0, 8.0, 10.0, 12.0, 16.0, 24.0, 32.0, 48.0,
+            64.0, 96.0, 128.0, 256.0, 512.0, 1024.0,
+        ];
         let samples: usize = std::env::var("NUSSELT_CAL_SAMPLES").ok().and_then(|s| s.parse().ok()).unwrap_or(300);
         let mut rng = Rng(2024);
         println!("const FAR_SEPS: &[f64] = &{seps:?};");
@@ -1267,7 +1343,13 @@ pub(crate) mod tests {
         assert!(!is_regular_quad(&quad([[0., 0.], [2., 0.], [1.5, 1.], [0.5, 1.]]))); // trapezoid
         assert!(!is_regular_quad(&Polygon::new(vec![Vec3::ZERO, Vec3::X, Vec3::Y]).unwrap()));
         // scale and position do not matter
-        let far = Polygon::new(vec![Vec3::new(1e6, 0., 0.), Vec3::new(1e6 + 1e-3, 0., 0.), Vec3::new(1e6 + 1e-3, 1e-3, 0.), Vec3::new(1e6, 1e-3, 0.)]).unwrap();
+        let far = Polygon::new(vec![
+            Vec3::new(1e6, 0., 0.),
+            Vec3::new(1e6 + 1e-3, 0., 0.),
+            Vec3::new(1e6 + 1e-3, 1e-3, 0.),
+            Vec3::new(1e6, 1e-3, 0.),
+        ])
+        .unwrap();
         assert!(is_regular_quad(&far));
     }
 
@@ -1289,8 +1371,14 @@ pub(crate) mod tests {
                 }
                 let g = match FarPlan::new(tol).rule(sep, true) {
                     FarRule::Gauss(n) => aff(&a, &b, n),
-                    FarRule::Moment => crate::moments::moment_pair(&crate::moments::Moments::new(&a), &crate::moments::Moments::new(&b)),
-                    FarRule::Moment4 => crate::moments::moment4_pair(&crate::moments::Moments::new(&a), &crate::moments::Moments::new(&b)),
+                    FarRule::Moment => crate::moments::moment_pair(
+                        &crate::moments::Moments::new(&a),
+                        &crate::moments::Moments::new(&b),
+                    ),
+                    FarRule::Moment4 => crate::moments::moment4_pair(
+                        &crate::moments::Moments::new(&a),
+                        &crate::moments::Moments::new(&b),
+                    ),
                     FarRule::Exact => continue,
                 };
                 let e = (g - r).abs() / r;
@@ -1356,7 +1444,8 @@ pub(crate) mod tests {
             let (a, b) = random_far_pair(&mut rng, s);
             let sep = a.centroid().distance(b.centroid()) / (a.radius() + b.radius());
             assert!((sep - s).abs() < 1e-9 * s);
-            let orders: Vec<(f64, usize)> = [1e-6, 1e-10, 1e-12].iter().filter_map(|&t| far_field_order(sep, t).map(|n| (t, n))).collect();
+            let orders: Vec<(f64, usize)> =
+                [1e-6, 1e-10, 1e-12].iter().filter_map(|&t| far_field_order(sep, t).map(|n| (t, n))).collect();
             if orders.is_empty() {
                 continue;
             }
@@ -1376,7 +1465,7 @@ pub(crate) mod tests {
         // more accuracy or less separation never asks for a lower order
         for &s in &[1.2, 1.5, 2.0, 3.0, 10.0, 100.0, 1e4] {
             let o: Vec<Option<usize>> = [1e-3, 1e-6, 1e-9, 1e-12].iter().map(|&t| far_field_order(s, t)).collect();
-            assert!(o.windows(2).all(|w| w[1].map_or(true, |b| w[0].map_or(false, |a| a <= b))), "{s}: {o:?}");
+            assert!(o.windows(2).all(|w| w[1].is_none_or(|b| w[0].is_some_and(|a| a <= b))), "{s}: {o:?}");
             if let Some(n1) = far_field_order(s, 1e-8) {
                 assert!(far_field_order(2.0 * s, 1e-8).is_some_and(|n2| n2 <= n1), "{s}");
             }
@@ -1411,7 +1500,10 @@ pub(crate) mod tests {
         for k in 0..120 {
             let sep = 1.2 + 10.0 * rng.unit();
             let (a, b) = random_far_pair(&mut rng, sep);
-            let (pa, pb) = (PackedRule::new(&AreaRule::new(&a, 1 + k % 16), &a), PackedRule::new(&AreaRule::new(&b, 1 + (k * 7) % 16), &b));
+            let (pa, pb) = (
+                PackedRule::new(&AreaRule::new(&a, 1 + k % 16), &a),
+                PackedRule::new(&AreaRule::new(&b, 1 + (k * 7) % 16), &b),
+            );
             let body = far_pair_body(&pa, a.normal(), &pb, b.normal());
             #[cfg(target_arch = "x86_64")]
             if std::arch::is_x86_feature_detected!("avx2") {
@@ -1429,7 +1521,12 @@ pub(crate) mod tests {
     }
 
     pub(crate) fn square(x0: f64, y0: f64, s: f64, z: f64, up: bool) -> Polygon {
-        let mut v = vec![Vec3::new(x0, y0, z), Vec3::new(x0 + s, y0, z), Vec3::new(x0 + s, y0 + s, z), Vec3::new(x0, y0 + s, z)];
+        let mut v = vec![
+            Vec3::new(x0, y0, z),
+            Vec3::new(x0 + s, y0, z),
+            Vec3::new(x0 + s, y0 + s, z),
+            Vec3::new(x0, y0 + s, z),
+        ];
         if !up {
             v.reverse();
         }
@@ -1457,7 +1554,8 @@ pub(crate) mod tests {
     fn area_area_chunking_matches_plain_sum() {
         let a = Polygon::new(vec![Vec3::new(0., 0., 0.), Vec3::new(1., 0., 0.), Vec3::new(0.2, 0.9, 0.)]).unwrap();
         let b = Polygon::new(vec![Vec3::new(0., 0., 2.), Vec3::new(0.3, 1., 2.4), Vec3::new(1.1, 0.1, 2.2)]).unwrap();
-        let nb = if b.normal().z > 0.0 { Polygon::new(b.vertices().iter().rev().copied().collect()).unwrap() } else { b };
+        let nb =
+            if b.normal().z > 0.0 { Polygon::new(b.vertices().iter().rev().copied().collect()).unwrap() } else { b };
         for n in 1..=9 {
             let (ra, rb) = (AreaRule::new(&a, n), AreaRule::new(&nb, n));
             let mut plain = 0.0;

@@ -118,13 +118,29 @@ const fn float(name: &'static str, default: f64, lo: f64, hi: f64, doc: &'static
     OptionSpec { name, ty: OptionType::Float, default: Default::Float(default), lo, hi, keywords: &[], doc }
 }
 const fn int(name: &'static str, default: u64, lo: u64, hi: u64, doc: &'static str) -> OptionSpec {
-    OptionSpec { name, ty: OptionType::Int, default: Default::Int(default), lo: lo as f64, hi: hi as f64, keywords: &[], doc }
+    OptionSpec {
+        name,
+        ty: OptionType::Int,
+        default: Default::Int(default),
+        lo: lo as f64,
+        hi: hi as f64,
+        keywords: &[],
+        doc,
+    }
 }
 const fn flag(name: &'static str, default: bool, doc: &'static str) -> OptionSpec {
     OptionSpec { name, ty: OptionType::Bool, default: Default::Bool(default), lo: 0.0, hi: 1.0, keywords: &[], doc }
 }
 const fn source(default: &'static str, keywords: &'static [&'static str], doc: &'static str) -> OptionSpec {
-    OptionSpec { name: "source", ty: OptionType::Source, default: Default::Keyword(default), lo: 0.0, hi: 16.0, keywords, doc }
+    OptionSpec {
+        name: "source",
+        ty: OptionType::Source,
+        default: Default::Keyword(default),
+        lo: 0.0,
+        hi: 16.0,
+        keywords,
+        doc,
+    }
 }
 
 /// Largest budget accepted (2^62 units: effectively none).
@@ -137,9 +153,12 @@ const BUDGET: OptionSpec = int(
     MAX_BUDGET,
     "most work units (visibility tests, cells or rays) one pair or row may take; more is a ValueError naming it",
 );
-const SEED: OptionSpec = int("seed", 0, 0, 1 << 63, "seed of the scrambled low-discrepancy points (results are reproducible)");
-const ROTATE: OptionSpec = flag("random_rotation", true, "random rotation about the normal per sample point (aliasing becomes noise)");
-const CONTROL_VARIATE: OptionSpec = flag("control_variate", true, "compute the unblocked integral exactly and sample only the blocked part");
+const SEED: OptionSpec =
+    int("seed", 0, 0, 1 << 63, "seed of the scrambled low-discrepancy points (results are reproducible)");
+const ROTATE: OptionSpec =
+    flag("random_rotation", true, "random rotation about the normal per sample point (aliasing becomes noise)");
+const CONTROL_VARIATE: OptionSpec =
+    flag("control_variate", true, "compute the unblocked integral exactly and sample only the blocked part");
 const SOURCE_ROW: OptionSpec = source(
     "auto",
     &["auto", "centre", "center"],
@@ -361,7 +380,10 @@ pub fn check(method: &str, spec: &OptionSpec, v: &Value) -> Result<()> {
             if spec.keywords.contains(&s.as_str()) {
                 Ok(())
             } else {
-                bad(format!("must be one of {:?} or an integer in [{}, {}]", spec.keywords, spec.lo as u64, spec.hi as u64))
+                bad(format!(
+                    "must be one of {:?} or an integer in [{}, {}]",
+                    spec.keywords, spec.lo as u64, spec.hi as u64
+                ))
             }
         }
         _ => bad(format!("must be of type {}", spec.ty.name())),
@@ -397,7 +419,9 @@ pub fn configure(name: &str, given: &[(String, Value)]) -> Result<(AnyMethod, Al
         "single-plane" => AnyMethod::Row(RowMethod::SinglePlane),
         "raytrace" => AnyMethod::Row(RowMethod::Raytrace),
         "nusselt" => AnyMethod::Row(RowMethod::Nusselt),
-        other => return Err(Error::InvalidArgument(format!("method {other:?} is listed but not wired (internal error)"))),
+        other => {
+            return Err(Error::InvalidArgument(format!("method {other:?} is listed but not wired (internal error)")))
+        }
     };
     let mut o = AllOptions::default();
     for (spec_o, v) in &values {
@@ -454,7 +478,7 @@ fn apply(name: &str, key: &str, v: &Value, o: &mut AllOptions) -> Result<()> {
         ("clipping", "source") => o.vis.clip_source = source_of(v).1,
         ("hemicube", "resolution") => {
             let r = as_u64(v) as u32;
-            if r % 2 != 0 {
+            if !r.is_multiple_of(2) {
                 return Err(Error::InvalidArgument(format!("method \"hemicube\": option resolution={r} must be even")));
             }
             o.hemicube.resolution = r;
@@ -474,7 +498,11 @@ fn apply(name: &str, key: &str, v: &Value, o: &mut AllOptions) -> Result<()> {
         ("nusselt", "jitter") => o.nusselt.jitter = as_bool(v),
         ("nusselt", "random_rotation") => o.nusselt.random_rotation = as_bool(v),
         ("nusselt", "seed") => o.nusselt.seed = as_u64(v),
-        _ => return Err(Error::InvalidArgument(format!("method {name:?}: option {key} is listed but not wired (internal error)"))),
+        _ => {
+            return Err(Error::InvalidArgument(format!(
+                "method {name:?}: option {key} is listed but not wired (internal error)"
+            )))
+        }
     }
     Ok(())
 }

@@ -66,11 +66,8 @@ pub fn concentric_disk(u: [f64; 2]) -> [f64; 2] {
     if a == 0.0 && b == 0.0 {
         return [0.0, 0.0];
     }
-    let (r, phi) = if a.abs() > b.abs() {
-        (a, FRAC_PI_4 * (b / a))
-    } else {
-        (b, 2.0 * FRAC_PI_4 - FRAC_PI_4 * (a / b))
-    };
+    let (r, phi) =
+        if a.abs() > b.abs() { (a, FRAC_PI_4 * (b / a)) } else { (b, 2.0 * FRAC_PI_4 - FRAC_PI_4 * (a / b)) };
     [r * phi.cos(), r * phi.sin()]
 }
 
@@ -186,11 +183,13 @@ pub fn polygon_gauss_points(poly: &Polygon, k: usize, out: &mut Vec<(Vec3, f64)>
     let v = poly.vertices();
     let n = poly.normal();
     let total = poly.area();
-    let convex_quad = v.len() == 4 && (0..4).all(|i| (v[(i + 1) % 4] - v[i]).cross(v[(i + 2) % 4] - v[(i + 1) % 4]).dot(n) > 0.0);
+    let convex_quad =
+        v.len() == 4 && (0..4).all(|i| (v[(i + 1) % 4] - v[i]).cross(v[(i + 2) % 4] - v[(i + 1) % 4]).dot(n) > 0.0);
     if convex_quad {
         for &(s, ws) in &g {
             for &(t, wt) in &g {
-                let x = v[0] * ((1.0 - s) * (1.0 - t)) + v[1] * (s * (1.0 - t)) + v[2] * (s * t) + v[3] * ((1.0 - s) * t);
+                let x =
+                    v[0] * ((1.0 - s) * (1.0 - t)) + v[1] * (s * (1.0 - t)) + v[2] * (s * t) + v[3] * ((1.0 - s) * t);
                 let ds = (v[1] - v[0]) * (1.0 - t) + (v[2] - v[3]) * t;
                 let dt = (v[3] - v[0]) * (1.0 - s) + (v[2] - v[1]) * s;
                 out.push((x, ws * wt * ds.cross(dt).dot(n) / total));
@@ -315,7 +314,13 @@ mod tests {
         }
         // skewed convex quad and concave L: weights sum to 1, first moments give the centroid,
         // and the L's mean of x^2 is that of its three unit squares
-        let quad = Polygon::new(vec![Vec3::new(0., 0., 0.), Vec3::new(2., 0.2, 0.), Vec3::new(1.7, 1.5, 0.), Vec3::new(0.1, 1., 0.)]).unwrap();
+        let quad = Polygon::new(vec![
+            Vec3::new(0., 0., 0.),
+            Vec3::new(2., 0.2, 0.),
+            Vec3::new(1.7, 1.5, 0.),
+            Vec3::new(0.1, 1., 0.),
+        ])
+        .unwrap();
         let l = Polygon::new(vec![
             Vec3::new(0., 0., 0.),
             Vec3::new(2., 0., 0.),
@@ -366,7 +371,13 @@ mod tests {
             assert!(x.z.abs() < 1e-15 && x.x >= -1e-15 && x.y >= -1e-15);
             assert!(!(x.x > 1.0 + 1e-12 && x.y > 1.0 + 1e-12), "outside the L: {x}");
             mean += x;
-            let c = if x.y >= 1.0 { 2 } else if x.x >= 1.0 { 1 } else { 0 };
+            let c = if x.y >= 1.0 {
+                2
+            } else if x.x >= 1.0 {
+                1
+            } else {
+                0
+            };
             counts[c] += 1;
         }
         mean /= n as f64;

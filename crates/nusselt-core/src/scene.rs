@@ -20,8 +20,8 @@ use crate::matrix::{clamp_g, flatten_pair_rows, full_rows, upper_pair_rows, Pair
 use crate::method::{self, Method, Options, RuleCache};
 use crate::obstructed::{self, Context, Estimate, VisMethod, VisOptions};
 use crate::unobstructed_rows;
-use crate::work;
 use crate::visibility::{Bvh, Occluders};
+use crate::work;
 use rayon::prelude::*;
 use std::str::FromStr;
 use std::sync::atomic::AtomicBool;
@@ -159,7 +159,15 @@ impl Scene {
             return Err(Error::InvalidArgument(format!("{} polygons: at most 2^31 - 1 are supported", polygons.len())));
         }
         let rules = RuleCache::new(polygons.len());
-        Ok(Scene { polygons, receiver, rules, bvh: OnceLock::new(), occluders: OnceLock::new(), convex: OnceLock::new(), ranks: OnceLock::new() })
+        Ok(Scene {
+            polygons,
+            receiver,
+            rules,
+            bvh: OnceLock::new(),
+            occluders: OnceLock::new(),
+            convex: OnceLock::new(),
+            ranks: OnceLock::new(),
+        })
     }
 
     pub fn polygons(&self) -> &[Polygon] {
@@ -192,7 +200,11 @@ impl Scene {
                     planes.push((n, d));
                 }
             }
-            planes.extend(groups.into_iter().map(|((n, _), d)| (Vec3::new(f64::from_bits(n[0]), f64::from_bits(n[1]), f64::from_bits(n[2])), d)));
+            planes.extend(
+                groups.into_iter().map(|((n, _), d)| {
+                    (Vec3::new(f64::from_bits(n[0]), f64::from_bits(n[1]), f64::from_bits(n[2])), d)
+                }),
+            );
             // O(planes x N) vertex tests: in parallel, stopping at the first polygon behind a plane
             planes.par_iter().all(|&(n, d)| {
                 self.polygons.iter().all(|q| {
@@ -237,11 +249,16 @@ impl Scene {
                             )));
                         }
                     }
-                    Ok(Estimate { value: method::area_factor(&p[i], &p[j], mm, &o.exact, Some((&self.rules, i, j)))?, std_err: 0.0 })
+                    Ok(Estimate {
+                        value: method::area_factor(&p[i], &p[j], mm, &o.exact, Some((&self.rules, i, j)))?,
+                        std_err: 0.0,
+                    })
                 })
             }
             AnyMethod::Visible(VisMethod::Auto) if free => {
-                return Ok(unobstructed_rows::pair_block(p, &self.receiver, &self.rules, rows, &o.exact, cancel)?.rows());
+                return Ok(
+                    unobstructed_rows::pair_block(p, &self.receiver, &self.rules, rows, &o.exact, cancel)?.rows()
+                );
             }
             AnyMethod::Visible(vm) if obstructed::exact_when_unobstructed(vm, &o.vis) => {
                 return self.visible_rows(rows, vm, o, cancel);
@@ -251,7 +268,9 @@ impl Scene {
                 let mut vo = o.vis.clone();
                 vo.exact_tol = o.exact.tol;
                 let budget = o.budget;
-                Box::new(move |i, j| work::metered(budget, || pair_what(m, i, j), || obstructed::pair(&ctx, i, j, vm, &vo)))
+                Box::new(move |i, j| {
+                    work::metered(budget, || pair_what(m, i, j), || obstructed::pair(&ctx, i, j, vm, &vo))
+                })
             }
         };
         upper_pair_rows(n, rows, &self.receiver, cancel, skip, |i, j| {
@@ -296,7 +315,8 @@ impl Scene {
                 order.sort_unstable_by_key(|&k| ranks[cols[k as usize] as usize]);
                 // Clusters of receivers, halved while something may block: a cluster whose
                 // shaft meets nothing is unobstructed as a whole.
-                let mut stack: Vec<(&[u32], Option<Vec<u32>>)> = order.chunks(CLUSTER).rev().map(|c| (c, None)).collect();
+                let mut stack: Vec<(&[u32], Option<Vec<u32>>)> =
+                    order.chunks(CLUSTER).rev().map(|c| (c, None)).collect();
                 // Pairs of two or fewer test their own shafts against the parent's answer.
                 while let Some((cluster, parent)) = stack.pop() {
                     let among = match parent {
@@ -308,7 +328,14 @@ impl Scene {
                                 hi = hi.max(*v);
                             }
                             let mut among = Vec::new();
-                            ctx.vis.candidates_toward_box(&p[i], lo, hi, &[ctx.occluders.owner[i]], parent.as_deref(), &mut among);
+                            ctx.vis.candidates_toward_box(
+                                &p[i],
+                                lo,
+                                hi,
+                                &[ctx.occluders.owner[i]],
+                                parent.as_deref(),
+                                &mut among,
+                            );
                             if among.is_empty() {
                                 continue;
                             }
@@ -324,9 +351,11 @@ impl Scene {
                     for &k in cluster {
                         let (k, j) = (k as usize, cols[k as usize] as usize);
                         let known = obstructed::Known { free: Some(g0[k]), among: Some(&among) };
-                        let est = work::metered(o.budget, || pair_what(AnyMethod::Visible(vm), i, j), || {
-                            obstructed::pair_with(&ctx, i, j, vm, &vo, known)
-                        })?;
+                        let est = work::metered(
+                            o.budget,
+                            || pair_what(AnyMethod::Visible(vm), i, j),
+                            || obstructed::pair_with(&ctx, i, j, vm, &vo, known),
+                        )?;
                         (g[k], std[k]) = (est.value, est.std_err);
                     }
                 }
@@ -355,7 +384,13 @@ impl Scene {
     }
 
     /// Whole rows F_i. by hemisphere sampling.
-    pub fn full_rows(&self, rows: &[usize], m: RowMethod, o: &AllOptions, cancel: &AtomicBool) -> Result<Vec<RowResult>> {
+    pub fn full_rows(
+        &self,
+        rows: &[usize],
+        m: RowMethod,
+        o: &AllOptions,
+        cancel: &AtomicBool,
+    ) -> Result<Vec<RowResult>> {
         let vis = match m {
             RowMethod::Raytrace | RowMethod::Nusselt => Some(self.bvh()?),
             _ => None,
@@ -381,7 +416,13 @@ fn pair_what(m: AnyMethod, i: usize, j: usize) -> String {
 }
 
 /// F_ab for a single pair with optional obstacles (opaque from both sides).
-pub fn pair_view_factor(a: Polygon, b: Polygon, obstacles: Vec<Polygon>, m: AnyMethod, o: &AllOptions) -> Result<Estimate> {
+pub fn pair_view_factor(
+    a: Polygon,
+    b: Polygon,
+    obstacles: Vec<Polygon>,
+    m: AnyMethod,
+    o: &AllOptions,
+) -> Result<Estimate> {
     o.check()?;
     let area = a.area();
     let n_obs = obstacles.len();
@@ -423,12 +464,26 @@ pub fn pair_view_factor(a: Polygon, b: Polygon, obstacles: Vec<Polygon>, m: AnyM
 
 /// F from a differential area (p, unit n) to polygon b, with optional obstacles; in [0, 1]
 /// (rounding of cancelling sums can leave a method's value just outside).
-pub fn point_view_factor(p: Vec3, n: Vec3, b: Polygon, obstacles: Vec<Polygon>, m: AnyMethod, o: &AllOptions) -> Result<Estimate> {
+pub fn point_view_factor(
+    p: Vec3,
+    n: Vec3,
+    b: Polygon,
+    obstacles: Vec<Polygon>,
+    m: AnyMethod,
+    o: &AllOptions,
+) -> Result<Estimate> {
     let e = point_estimate(p, n, b, obstacles, m, o)?;
     Ok(Estimate { value: e.value.clamp(0.0, 1.0), ..e })
 }
 
-fn point_estimate(p: Vec3, n: Vec3, b: Polygon, obstacles: Vec<Polygon>, m: AnyMethod, o: &AllOptions) -> Result<Estimate> {
+fn point_estimate(
+    p: Vec3,
+    n: Vec3,
+    b: Polygon,
+    obstacles: Vec<Polygon>,
+    m: AnyMethod,
+    o: &AllOptions,
+) -> Result<Estimate> {
     o.check()?;
     if !p.is_finite() || !n.is_finite() || !((n.length() - 1.0).abs() < 1e-6) {
         return Err(Error::InvalidArgument("point and unit normal must be finite".into()));
@@ -457,8 +512,12 @@ fn point_estimate(p: Vec3, n: Vec3, b: Polygon, obstacles: Vec<Polygon>, m: AnyM
             let size = b.radius().max(p.distance(b.centroid()));
             let (t, s) = crate::geometry::tangent_frame(n);
             let e = 1e-7 * size;
-            let tri = Polygon::new(vec![p + e * (2.0 * t), p + e * (-t + 1.7320508075688772 * s), p + e * (-t - 1.7320508075688772 * s)])
-                .map_err(|err| Error::InvalidArgument(format!("point source: {err}")))?;
+            let tri = Polygon::new(vec![
+                p + e * (2.0 * t),
+                p + e * (-t + 1.7320508075688772 * s),
+                p + e * (-t - 1.7320508075688772 * s),
+            ])
+            .map_err(|err| Error::InvalidArgument(format!("point source: {err}")))?;
             let mut polys = vec![tri, b];
             polys.extend(obstacles);
             let mut receiver = vec![false; 2 + n_obs];
@@ -525,7 +584,9 @@ mod tests {
                 let mut k = 0;
                 for j in i + 1..n {
                     let want = obstructed::pair(&ctx, *i, j, m, &vo).unwrap();
-                    let free = method::area_factor(&scene.polygons[*i], &scene.polygons[j], Method::Auto, &o.exact, None).unwrap();
+                    let free =
+                        method::area_factor(&scene.polygons[*i], &scene.polygons[j], Method::Auto, &o.exact, None)
+                            .unwrap();
                     let got = if row.cols.get(k) == Some(&(j as u32)) {
                         k += 1;
                         (row.g[k - 1], row.std.as_ref().unwrap()[k - 1])
@@ -563,12 +624,22 @@ mod tests {
         for i in (0..n).step_by(3) {
             for j in (i + 1..n).step_by(5) {
                 bvh.candidates_between(&polys[i], &polys[j], &[i as u32, j as u32], &mut cand);
-                let free = method::area_factor(&polys[i], &polys[j], Method::Auto, &Options { tol: 1e-12, ..Default::default() }, None).unwrap();
+                let free = method::area_factor(
+                    &polys[i],
+                    &polys[j],
+                    Method::Auto,
+                    &Options { tol: 1e-12, ..Default::default() },
+                    None,
+                )
+                .unwrap();
                 if cand.is_empty() || free == 0.0 {
                     continue;
                 }
                 for (m, o, tol) in [(VisMethod::Clipping, &clip2, 1e-12), (VisMethod::Auto, &auto, 2e-6)] {
-                    let (a, b) = (obstructed::pair(&ctx, i, j, m, o).unwrap().value, obstructed::pair(&tile_ctx, i, j, m, o).unwrap().value);
+                    let (a, b) = (
+                        obstructed::pair(&ctx, i, j, m, o).unwrap().value,
+                        obstructed::pair(&tile_ctx, i, j, m, o).unwrap().value,
+                    );
                     assert!((a - b).abs() <= tol * free, "{m:?} pair {i} {j}: joined {a}, tiles {b}, free {free}");
                 }
                 checked += 1;

@@ -9,10 +9,10 @@
 
 use crate::error::{Error, Result};
 use crate::geometry::{Polygon, Vec3};
+use crate::matrix::{split_lengths, PairBlock};
 use crate::method::{self, Facing, Options, RuleCache};
 use crate::moments::{moment_rule_formula, Moments};
 use crate::quadrature::FarPlan;
-use crate::matrix::{split_lengths, PairBlock};
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicBool, Ordering};
 
@@ -41,7 +41,8 @@ impl Patches {
             .into_par_iter()
             .map(|k| {
                 let p = &polys[k];
-                let thickness = p.vertices().iter().map(|v| (*v - p.centroid()).dot(p.normal()).abs()).fold(0.0, f64::max);
+                let thickness =
+                    p.vertices().iter().map(|v| (*v - p.centroid()).dot(p.normal()).abs()).fold(0.0, f64::max);
                 (*rules.moments(k, p), p.radius(), thickness, crate::quadrature::is_regular_quad(p))
             })
             .collect();
@@ -128,7 +129,11 @@ pub(crate) fn pair_block(
     let room: Vec<usize> = rows.iter().map(|&i| if receiver[i] { n - i - 1 } else { 0 }).collect();
     let total: usize = room.iter().sum();
     let (mut cols, mut vals) = (vec![0i32; total], vec![0.0f64; total]);
-    let jobs: Vec<_> = rows.iter().zip(split_lengths(&mut cols, room.iter().copied())).zip(split_lengths(&mut vals, room.iter().copied())).collect();
+    let jobs: Vec<_> = rows
+        .iter()
+        .zip(split_lengths(&mut cols, room.iter().copied()))
+        .zip(split_lengths(&mut vals, room.iter().copied()))
+        .collect();
     let counts: Vec<usize> = jobs
         .into_par_iter()
         .map(|((&i, out_c), out_g)| {
@@ -140,7 +145,8 @@ pub(crate) fn pair_block(
             }
             let mut len = 0;
             let ia = i - lo;
-            let (ca, na, ra, area_a, reg_a) = (pt.centroid(ia), pt.normal(ia), pt.radius[ia], pt.area[ia], pt.regular[ia]);
+            let (ca, na, ra, area_a, reg_a) =
+                (pt.centroid(ia), pt.normal(ia), pt.radius[ia], pt.area[ia], pt.regular[ia]);
             let (ma, ea) = (pt.moments(ia), pt.edges(ia));
             let (mut class, mut value) = ([SKIP; CHUNK], [0.0f64; CHUNK]);
             let mut start = ia + 1;
@@ -150,7 +156,15 @@ pub(crate) fn pair_block(
             while start < n - lo {
                 let chunk = (n - lo - start).min(CHUNK);
                 let end = start + chunk;
-                let fourths = first_pass(&pt, start..end, (ca, na, ra, area_a, reg_a, &ma, &ea), &windows, fourth, &mut class[..chunk], &mut value[..chunk]);
+                let fourths = first_pass(
+                    &pt,
+                    start..end,
+                    (ca, na, ra, area_a, reg_a, &ma, &ea),
+                    &windows,
+                    fourth,
+                    &mut class[..chunk],
+                    &mut value[..chunk],
+                );
                 fourth = 8 * fourths > chunk;
                 for (e, (&cl, &g)) in class[..chunk].iter().zip(&value[..chunk]).enumerate() {
                     let j = start + e + lo;
@@ -196,22 +210,45 @@ type Source<'a> = (Vec3, Vec3, f64, f64, bool, &'a [f64; 6], &'a [Vec3; 2]);
 /// `fourth`, pairs for the fourth-order rule get its value and class MOMENT; without, they get
 /// class MOMENT4 for the caller to evaluate. Returns the number of such pairs. Uses AVX2
 /// when the CPU has it (checked once); without FMA, so both paths round alike.
-fn first_pass(pt: &Patches, ks: std::ops::Range<usize>, a: Source, windows: &[f64; 3], fourth: bool, class: &mut [u8], value: &mut [f64]) -> usize {
+fn first_pass(
+    pt: &Patches,
+    ks: std::ops::Range<usize>,
+    a: Source,
+    windows: &[f64; 3],
+    fourth: bool,
+    class: &mut [u8],
+    value: &mut [f64],
+) -> usize {
     #[cfg(target_arch = "x86_64")]
     {
         if std::arch::is_x86_feature_detected!("avx2") {
             // SAFETY: the CPU supports AVX2, checked just above.
             return unsafe {
-                if fourth { first_pass_avx2::<true>(pt, ks, a, windows, class, value) } else { first_pass_avx2::<false>(pt, ks, a, windows, class, value) }
+                if fourth {
+                    first_pass_avx2::<true>(pt, ks, a, windows, class, value)
+                } else {
+                    first_pass_avx2::<false>(pt, ks, a, windows, class, value)
+                }
             };
         }
     }
-    if fourth { first_pass_body::<true>(pt, ks, a, windows, class, value) } else { first_pass_body::<false>(pt, ks, a, windows, class, value) }
+    if fourth {
+        first_pass_body::<true>(pt, ks, a, windows, class, value)
+    } else {
+        first_pass_body::<false>(pt, ks, a, windows, class, value)
+    }
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-unsafe fn first_pass_avx2<const FOURTH: bool>(pt: &Patches, ks: std::ops::Range<usize>, a: Source, windows: &[f64; 3], class: &mut [u8], value: &mut [f64]) -> usize {
+unsafe fn first_pass_avx2<const FOURTH: bool>(
+    pt: &Patches,
+    ks: std::ops::Range<usize>,
+    a: Source,
+    windows: &[f64; 3],
+    class: &mut [u8],
+    value: &mut [f64],
+) -> usize {
     first_pass_body::<FOURTH>(pt, ks, a, windows, class, value)
 }
 
@@ -250,7 +287,8 @@ fn first_pass_body<const FOURTH: bool>(
         let mb = [m[0][k], m[1][k], m[2][k], m[3][k], m[4][k], m[5][k]];
         let nb = Vec3::new(nx[k], ny[k], nz[k]);
         let eb = [Vec3::new(edge[0][k], edge[1][k], edge[2][k]), Vec3::new(edge[3][k], edge[4][k], edge[5][k])];
-        value[k] = moment_rule_formula(Vec3::new(dx, dy, dz), na, nb, ma, &mb, ea, &eb, area_a * ab[k], FOURTH & moment4);
+        value[k] =
+            moment_rule_formula(Vec3::new(dx, dy, dz), na, nb, ma, &mb, ea, &eb, area_a * ab[k], FOURTH & moment4);
         fourths += (!none & moment4) as usize;
         class[k] = if none {
             SKIP
@@ -267,7 +305,15 @@ fn first_pass_body<const FOURTH: bool>(
 
 /// A pair the first pass left to the general path: [`method::auto_pair`], with the facing
 /// test spared its vertex loops for same-plane pairs.
-fn other_pair(polys: &[Polygon], rules: &RuleCache, plan: &FarPlan, pt: &Patches, i: usize, j: usize, lo: usize) -> f64 {
+fn other_pair(
+    polys: &[Polygon],
+    rules: &RuleCache,
+    plan: &FarPlan,
+    pt: &Patches,
+    i: usize,
+    j: usize,
+    lo: usize,
+) -> f64 {
     let (ia, ib) = (i - lo, j - lo);
     let (na, nb, rb) = (pt.normal(ia), pt.normal(ib), pt.radius[ib]);
     let hab = na.dot(pt.centroid(ib) - pt.centroid(ia));
@@ -335,7 +381,8 @@ mod tests {
                 assert!(row.std.is_none());
                 for (j, gij, _) in row.iter() {
                     let j = j as usize;
-                    let want = method::area_factor(&polys[i], &polys[j], Method::Auto, &opts, Some((&cache, i, j))).unwrap();
+                    let want =
+                        method::area_factor(&polys[i], &polys[j], Method::Auto, &opts, Some((&cache, i, j))).unwrap();
                     assert!((gij - want).abs() <= 1e-13 * want.abs(), "tol {tol:e} ({i},{j}): {gij} vs {want}");
                     g[i][j] = gij;
                     g[j][i] = gij;
@@ -369,11 +416,14 @@ mod tests {
             for (i, row) in out.iter().enumerate() {
                 for (j, gij, _) in row.iter() {
                     let j = j as usize;
-                    let want = method::area_factor(&polys[i], &polys[j], Method::Auto, &opts, Some((&cache, i, j))).unwrap();
+                    let want =
+                        method::area_factor(&polys[i], &polys[j], Method::Auto, &opts, Some((&cache, i, j))).unwrap();
                     assert!((gij - want).abs() <= 1e-13 * want.abs(), "tol {tol:e} ({i},{j}): {gij} vs {want}");
                     let (a, b) = (&polys[i], &polys[j]);
                     let (d, r) = (b.centroid() - a.centroid(), a.radius() + b.radius());
-                    if method::facing(a, b) == method::Facing::Full && plan.rule_sq(d.dot(d), r * r, true) == crate::quadrature::FarRule::Moment4 {
+                    if method::facing(a, b) == method::Facing::Full
+                        && plan.rule_sq(d.dot(d), r * r, true) == crate::quadrature::FarRule::Moment4
+                    {
                         fourth += 1;
                     }
                 }

@@ -87,13 +87,17 @@ mod tests {
 
     #[test]
     fn over_budget_is_an_error_naming_the_budget() {
-        let r = metered(10, || "pair (0, 1)".into(), || {
-            let mut n = 0;
-            while spend(3) {
-                n += 1;
-            }
-            Ok(n)
-        });
+        let r = metered(
+            10,
+            || "pair (0, 1)".into(),
+            || {
+                let mut n = 0;
+                while spend(3) {
+                    n += 1;
+                }
+                Ok(n)
+            },
+        );
         match r {
             Err(Error::Budget { what, budget }) => {
                 assert_eq!(budget, 10);
@@ -107,6 +111,6 @@ mod tests {
 
     #[test]
     fn within_budget_returns_the_value() {
-        assert_eq!(metered(10, String::new, || Ok(spend(10))).unwrap(), true);
+        assert!(metered(10, String::new, || Ok(spend(10))).unwrap());
     }
 }

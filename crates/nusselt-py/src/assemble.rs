@@ -1,9 +1,9 @@
 //! Assembly of the full F from the upper-triangle blocks of a pair-method run, in one pass
 //! (numpy/scipy would concatenate, transpose and merge: several copies of every entry).
 use crate::errors::guard;
+use numpy::{IntoPyArray, PyArray1, PyReadonlyArray1};
 use nusselt_core::matrix::{mirror_upper, UpperRow};
 use nusselt_core::Error;
-use numpy::{IntoPyArray, PyArray1, PyReadonlyArray1};
 use pyo3::prelude::*;
 use std::borrow::Cow;
 
@@ -14,7 +14,12 @@ type Block<'py> = (
     PyReadonlyArray1<'py, f64>,
     Option<PyReadonlyArray1<'py, f64>>,
 );
-type Out<'py> = (Bound<'py, PyArray1<i64>>, Bound<'py, PyArray1<i32>>, Bound<'py, PyArray1<f64>>, Option<Bound<'py, PyArray1<f64>>>);
+type Out<'py> = (
+    Bound<'py, PyArray1<i64>>,
+    Bound<'py, PyArray1<i32>>,
+    Bound<'py, PyArray1<f64>>,
+    Option<Bound<'py, PyArray1<f64>>>,
+);
 
 /// (indptr, indices, F, standard errors of F or None) over receiver indices, from blocks of
 /// (rows, indptr, columns, G, std of G) in scene indices; `col_of` maps scene index to
@@ -33,17 +38,26 @@ pub fn mirror_pairs<'py>(
     let mut mapped: Vec<(usize, Cow<[i32]>, usize, usize, usize)> = Vec::new(); // row, cols, block, start, end
     let mut with_std = false;
     for (b, (rows, indptr, indices, data, std)) in blocks.iter().enumerate() {
-        let (rows, indptr, indices, data) = (rows.as_slice()?, indptr.as_slice()?, indices.as_slice()?, data.as_slice()?);
-        if indptr.len() != rows.len() + 1 || indices.len() != data.len() || std.as_ref().is_some_and(|s| s.len().ok() != Some(data.len())) {
+        let (rows, indptr, indices, data) =
+            (rows.as_slice()?, indptr.as_slice()?, indices.as_slice()?, data.as_slice()?);
+        if indptr.len() != rows.len() + 1
+            || indices.len() != data.len()
+            || std.as_ref().is_some_and(|s| s.len().ok() != Some(data.len()))
+        {
             return Err(pyo3::exceptions::PyValueError::new_err(format!("block {b}: inconsistent CSR parts")));
         }
         if let Some(s) = std {
             with_std |= s.as_slice()?.iter().any(|&v| v != 0.0);
         }
         let map = |k: i64| -> PyResult<i64> {
-            usize::try_from(k).ok().and_then(|k| col_of.get(k)).copied().filter(|&c| (0..=i32::MAX as i64).contains(&c)).ok_or_else(|| {
-                pyo3::exceptions::PyValueError::new_err(format!("block {b}: index {k} is not a receiver"))
-            })
+            usize::try_from(k)
+                .ok()
+                .and_then(|k| col_of.get(k))
+                .copied()
+                .filter(|&c| (0..=i32::MAX as i64).contains(&c))
+                .ok_or_else(|| {
+                    pyo3::exceptions::PyValueError::new_err(format!("block {b}: index {k} is not a receiver"))
+                })
         };
         for (r, &row) in rows.iter().enumerate() {
             let (s, e) = (indptr[r] as usize, indptr[r + 1] as usize);
@@ -53,7 +67,9 @@ pub fn mirror_pairs<'py>(
             let cols = if identity {
                 Cow::Borrowed(&indices[s..e]) // mirror_upper checks the range
             } else {
-                Cow::Owned(indices[s..e].iter().map(|&j| map(j as i64).map(|c| c as i32)).collect::<PyResult<Vec<i32>>>()?)
+                Cow::Owned(
+                    indices[s..e].iter().map(|&j| map(j as i64).map(|c| c as i32)).collect::<PyResult<Vec<i32>>>()?,
+                )
             };
             mapped.push((map(row)? as usize, cols, b, s, e));
         }
@@ -72,7 +88,8 @@ pub fn mirror_pairs<'py>(
         })
         .collect();
     let pool = crate::threads::pool();
-    let (f, sd) = py.detach(|| guard(|| -> Result<_, Error> { pool.install(|| mirror_upper(areas, &rows, with_std)) }))?;
+    let (f, sd) =
+        py.detach(|| guard(|| -> Result<_, Error> { pool.install(|| mirror_upper(areas, &rows, with_std)) }))?;
     Ok((
         f.indptr.into_pyarray(py),
         f.indices.into_pyarray(py),

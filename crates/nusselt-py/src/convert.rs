@@ -1,7 +1,7 @@
 //! numpy arrays <-> core polygons.
+use numpy::{PyReadonlyArray1, PyReadonlyArray2};
 use nusselt_core::geometry::{GeometryError, Polygon, Vec3};
 use nusselt_core::Error;
-use numpy::{PyReadonlyArray1, PyReadonlyArray2};
 use pyo3::exceptions::PyValueError;
 use pyo3::PyResult;
 
@@ -9,7 +9,10 @@ use pyo3::PyResult;
 pub fn polygon(arr: &PyReadonlyArray2<'_, f64>, what: &str, tol: f64) -> PyResult<Polygon> {
     let a = arr.as_array();
     if a.ncols() != 3 {
-        return Err(PyValueError::new_err(format!("{what}: expected an (n, 3) array of vertices, got shape {:?}", a.shape())));
+        return Err(PyValueError::new_err(format!(
+            "{what}: expected an (n, 3) array of vertices, got shape {:?}",
+            a.shape()
+        )));
     }
     let v: Vec<Vec3> = a.rows().into_iter().map(|r| Vec3::new(r[0], r[1], r[2])).collect();
     Polygon::with_tolerance(v, tol).map_err(|e| PyValueError::new_err(format!("{what} {e}")))

@@ -6,7 +6,9 @@ use pyo3::PyErr;
 
 pub fn to_py(err: Error) -> PyErr {
     match err {
-        Error::Geometry { .. } | Error::InvalidArgument(_) | Error::Budget { .. } => PyValueError::new_err(err.to_string()),
+        Error::Geometry { .. } | Error::InvalidArgument(_) | Error::Budget { .. } => {
+            PyValueError::new_err(err.to_string())
+        }
         Error::OutOfMemory { .. } => PyMemoryError::new_err(err.to_string()),
         Error::Cancelled => PyKeyboardInterrupt::new_err("interrupted"),
     }

@@ -66,9 +66,12 @@ fn value(method: &str, key: &str, v: &Bound<'_, PyAny>) -> PyResult<Value> {
     let spec = registry::find(method).map_err(crate::errors::to_py)?;
     let Some(o) = spec.option(key) else {
         // the registry names the allowed options in its message
-        return Err(crate::errors::to_py(registry::configure(method, &[(key.to_string(), Value::Bool(false))]).unwrap_err()));
+        return Err(crate::errors::to_py(
+            registry::configure(method, &[(key.to_string(), Value::Bool(false))]).unwrap_err(),
+        ));
     };
-    let wrong = || PyTypeError::new_err(format!("method {method:?}: option {key} must be of type {}, got {v}", o.ty.name()));
+    let wrong =
+        || PyTypeError::new_err(format!("method {method:?}: option {key} must be of type {}, got {v}", o.ty.name()));
     Ok(match o.ty {
         OptionType::Float => Value::Float(v.extract().map_err(|_| wrong())?),
         OptionType::Int => {

@@ -1,8 +1,8 @@
 //! view_factor / point_view_factor for single pairs and points.
 use crate::convert::{polygon, vec3};
 use crate::options::options;
-use nusselt_core::scene;
 use numpy::{PyReadonlyArray1, PyReadonlyArray2};
+use nusselt_core::scene;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 

@@ -2,15 +2,20 @@
 use crate::convert::polygons_flat;
 use crate::options::options;
 use crate::threads::pool;
+use numpy::{IntoPyArray, PyArray1, PyArray2, PyReadonlyArray1, PyReadonlyArray2};
 use nusselt_core::geometry::{GeometryError, Polygon};
 use nusselt_core::scene::{AnyMethod, Scene};
+use nusselt_core::work::CANCEL;
 use nusselt_core::Error;
-use numpy::{IntoPyArray, PyArray1, PyArray2, PyReadonlyArray1, PyReadonlyArray2};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use nusselt_core::work::CANCEL;
 
-type Csr<'py> = (Bound<'py, PyArray1<i64>>, Bound<'py, PyArray1<i32>>, Bound<'py, PyArray1<f64>>, Option<Bound<'py, PyArray1<f64>>>);
+type Csr<'py> = (
+    Bound<'py, PyArray1<i64>>,
+    Bound<'py, PyArray1<i32>>,
+    Bound<'py, PyArray1<f64>>,
+    Option<Bound<'py, PyArray1<f64>>>,
+);
 
 #[pyclass(frozen, module = "nusselt._core")]
 pub struct SceneCore {
@@ -81,7 +86,13 @@ impl SceneCore {
 
     /// Pair methods: G_ij = A_i F_ij for the given rows and every receiver j > i, as CSR
     /// parts over those rows (indptr, indices, G, standard error of G).
-    fn pair_rows<'py>(&self, py: Python<'py>, rows: PyReadonlyArray1<'_, i64>, method: &str, opts: &Bound<'_, PyDict>) -> PyResult<Csr<'py>> {
+    fn pair_rows<'py>(
+        &self,
+        py: Python<'py>,
+        rows: PyReadonlyArray1<'_, i64>,
+        method: &str,
+        opts: &Bound<'_, PyDict>,
+    ) -> PyResult<Csr<'py>> {
         let rows = to_rows(&rows)?;
         let (m, o) = options(method, opts)?;
         let pool = pool();
@@ -89,7 +100,12 @@ impl SceneCore {
             self.valid()?;
             pool.install(|| self.scene.pair_block(&rows, m, &o, &CANCEL))
         })?;
-        Ok((b.indptr.into_pyarray(py), b.cols.into_pyarray(py), b.g.into_pyarray(py), b.std.map(|s| s.into_pyarray(py))))
+        Ok((
+            b.indptr.into_pyarray(py),
+            b.cols.into_pyarray(py),
+            b.g.into_pyarray(py),
+            b.std.map(|s| s.into_pyarray(py)),
+        ))
     }
 
     /// Row methods: F_ij for the given rows, as CSR parts plus standard errors (NaN where the
@@ -100,7 +116,13 @@ impl SceneCore {
         rows: PyReadonlyArray1<'_, i64>,
         method: &str,
         opts: &Bound<'_, PyDict>,
-    ) -> PyResult<(Bound<'py, PyArray1<i64>>, Bound<'py, PyArray1<i64>>, Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>)> {
+    ) -> PyResult<(
+        Bound<'py, PyArray1<i64>>,
+        Bound<'py, PyArray1<i64>>,
+        Bound<'py, PyArray1<f64>>,
+        Bound<'py, PyArray1<f64>>,
+        Bound<'py, PyArray1<f64>>,
+    )> {
         let rows = to_rows(&rows)?;
         let (m, o) = options(method, opts)?;
         let AnyMethod::Row(m) = m else {
@@ -111,7 +133,8 @@ impl SceneCore {
             self.valid()?;
             pool.install(|| self.scene.full_rows(&rows, m, &o, &CANCEL))
         })?;
-        let (mut indptr, mut idx, mut val, mut std, mut lost) = (vec![0i64], Vec::new(), Vec::new(), Vec::new(), Vec::new());
+        let (mut indptr, mut idx, mut val, mut std, mut lost) =
+            (vec![0i64], Vec::new(), Vec::new(), Vec::new(), Vec::new());
         for r in &out {
             for (k, &(j, f)) in r.entries.iter().enumerate() {
                 idx.push(j as i64);
@@ -121,7 +144,13 @@ impl SceneCore {
             indptr.push(idx.len() as i64);
             lost.push(r.lost);
         }
-        Ok((indptr.into_pyarray(py), idx.into_pyarray(py), val.into_pyarray(py), std.into_pyarray(py), lost.into_pyarray(py)))
+        Ok((
+            indptr.into_pyarray(py),
+            idx.into_pyarray(py),
+            val.into_pyarray(py),
+            std.into_pyarray(py),
+            lost.into_pyarray(py),
+        ))
     }
 
     /// F from each point (unit normal) to every receiver, as CSR parts (indptr, receiver
@@ -142,23 +171,43 @@ impl SceneCore {
             self.valid()?;
             pool.install(|| self.scene.point_rows(&p, &n, m, obstructed, &o, &CANCEL))
         })?;
-        Ok((b.indptr.into_pyarray(py), b.cols.into_pyarray(py), b.g.into_pyarray(py), b.std.map(|s| s.into_pyarray(py))))
+        Ok((
+            b.indptr.into_pyarray(py),
+            b.cols.into_pyarray(py),
+            b.g.into_pyarray(py),
+            b.std.map(|s| s.into_pyarray(py)),
+        ))
     }
 
     /// F from a small sphere at each point to every receiver (visible solid angle / 4 pi),
     /// as CSR parts (indptr, receiver polygon ids, F, None).
-    fn point_sphere_rows<'py>(&self, py: Python<'py>, points: PyReadonlyArray2<'_, f64>, obstructed: bool) -> PyResult<Csr<'py>> {
+    fn point_sphere_rows<'py>(
+        &self,
+        py: Python<'py>,
+        points: PyReadonlyArray2<'_, f64>,
+        obstructed: bool,
+    ) -> PyResult<Csr<'py>> {
         let p = vec3_rows(&points, "points")?;
         let pool = pool();
         let b = crate::interrupt::run(py, || {
             self.valid()?;
             pool.install(|| self.scene.point_sphere_rows(&p, obstructed, &CANCEL))
         })?;
-        Ok((b.indptr.into_pyarray(py), b.cols.into_pyarray(py), b.g.into_pyarray(py), b.std.map(|s| s.into_pyarray(py))))
+        Ok((
+            b.indptr.into_pyarray(py),
+            b.cols.into_pyarray(py),
+            b.g.into_pyarray(py),
+            b.std.map(|s| s.into_pyarray(py)),
+        ))
     }
 
     /// Sky view factor of each point (unit normal): 1 - the fraction the scene intercepts.
-    fn point_sky<'py>(&self, py: Python<'py>, points: PyReadonlyArray2<'_, f64>, normals: PyReadonlyArray2<'_, f64>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+    fn point_sky<'py>(
+        &self,
+        py: Python<'py>,
+        points: PyReadonlyArray2<'_, f64>,
+        normals: PyReadonlyArray2<'_, f64>,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let (p, n) = (vec3_rows(&points, "points")?, vec3_rows(&normals, "normals")?);
         let pool = pool();
         let out = crate::interrupt::run(py, || {
@@ -169,7 +218,12 @@ impl SceneCore {
     }
 
     /// Sky view factor of each polygon in `rows` (Gauss rule of `order` over the polygon).
-    fn patch_sky<'py>(&self, py: Python<'py>, rows: PyReadonlyArray1<'_, i64>, order: usize) -> PyResult<Bound<'py, PyArray1<f64>>> {
+    fn patch_sky<'py>(
+        &self,
+        py: Python<'py>,
+        rows: PyReadonlyArray1<'_, i64>,
+        order: usize,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let rows = to_rows(&rows)?;
         let pool = pool();
         let out = crate::interrupt::run(py, || {
@@ -180,7 +234,12 @@ impl SceneCore {
     }
 
     /// Whether each ray (origin, direction) to infinity meets a polygon of the scene.
-    fn rays_blocked<'py>(&self, py: Python<'py>, origins: PyReadonlyArray2<'_, f64>, dirs: PyReadonlyArray2<'_, f64>) -> PyResult<Bound<'py, PyArray1<bool>>> {
+    fn rays_blocked<'py>(
+        &self,
+        py: Python<'py>,
+        origins: PyReadonlyArray2<'_, f64>,
+        dirs: PyReadonlyArray2<'_, f64>,
+    ) -> PyResult<Bound<'py, PyArray1<bool>>> {
         let (o, d) = (vec3_rows(&origins, "origins")?, vec3_rows(&dirs, "directions")?);
         let pool = pool();
         let out = crate::interrupt::run(py, || {
@@ -195,7 +254,10 @@ impl SceneCore {
 fn vec3_rows(a: &PyReadonlyArray2<'_, f64>, what: &str) -> PyResult<Vec<nusselt_core::Vec3>> {
     let a = a.as_array();
     if a.ncols() != 3 {
-        return Err(pyo3::exceptions::PyValueError::new_err(format!("{what}: expected an (m, 3) array, got shape {:?}", a.shape())));
+        return Err(pyo3::exceptions::PyValueError::new_err(format!(
+            "{what}: expected an (m, 3) array, got shape {:?}",
+            a.shape()
+        )));
     }
     Ok(a.rows().into_iter().map(|r| nusselt_core::Vec3::new(r[0], r[1], r[2])).collect())
 }

@@ -36,4 +36,3 @@ pub fn room(n: usize) -> Vec<Polygon> {
     }
     out
 }
-

@@ -41,7 +41,15 @@ pub const ILL_CONDITIONED: f64 = 2e3;
 /// keeps its sum. Pairs far apart go to [`area_area`], the rest (and far pairs it refuses)
 /// to [`lambert_over_area`] or, touching along a line and cancelling by more than
 /// `line_threshold`, [`lambert_along_line`], over the smaller outline.
-pub fn if_cancelling(pa: &[Vec3], na: Vec3, pb: &[Vec3], nb: Vec3, sum: f64, mag: f64, line_threshold: f64) -> Option<f64> {
+pub fn if_cancelling(
+    pa: &[Vec3],
+    na: Vec3,
+    pb: &[Vec3],
+    nb: Vec3,
+    sum: f64,
+    mag: f64,
+    line_threshold: f64,
+) -> Option<f64> {
     let (da, db) = (bounding_diameter(pa), bounding_diameter(pb));
     let mean = |p: &[Vec3]| p.iter().fold(Vec3::ZERO, |s, v| s + *v) / p.len() as f64;
     let far = mean(pa).distance(mean(pb)) / da.max(db);
@@ -189,7 +197,9 @@ fn contact(src: &[Vec3], n_src: Vec3, tgt: &[Vec3]) -> Contact {
             }
         }
     }
-    let Some(&(r, s)) = near.iter().max_by(|a, b| (a.1 - a.0).length_squared().total_cmp(&(b.1 - b.0).length_squared())) else {
+    let Some(&(r, s)) =
+        near.iter().max_by(|a, b| (a.1 - a.0).length_squared().total_cmp(&(b.1 - b.0).length_squared()))
+    else {
         return Contact::Points;
     };
     let onto_plane = |x: Vec3| x - n_src * n_src.dot(x - src[0]);
@@ -324,10 +334,14 @@ fn lambert_along_line(src: &[Vec3], n_src: Vec3, target: &[Vec3], p: Vec3, u: Ve
     // Estimates of the whole on the starting pieces, by Gauss of an order per piece.
     let estimate_by = |order: usize| -> f64 {
         let rule = gauss_legendre(order);
-        let gauss = |a: f64, b: f64, g: &mut dyn FnMut(f64) -> f64| (b - a) * rule.iter().map(|&(x, w)| w * g(a + (b - a) * x)).sum::<f64>();
+        let gauss = |a: f64, b: f64, g: &mut dyn FnMut(f64) -> f64| {
+            (b - a) * rule.iter().map(|&(x, w)| w * g(a + (b - a) * x)).sum::<f64>()
+        };
         slabs
             .iter()
-            .map(|&(a, b)| gauss(a, b, &mut |d| pieces_at(d).iter().map(|&(s0, s1)| gauss(s0, s1, &mut |s| lambert(s, d).0)).sum()))
+            .map(|&(a, b)| {
+                gauss(a, b, &mut |d| pieces_at(d).iter().map(|&(s0, s1)| gauss(s0, s1, &mut |s| lambert(s, d).0)).sum())
+            })
             .sum()
     };
     let (lower, estimate) = (estimate_by(LINE_CHECK.0), estimate_by(LINE_CHECK.1));
@@ -347,7 +361,8 @@ fn lambert_along_line(src: &[Vec3], n_src: Vec3, target: &[Vec3], p: Vec3, u: Ve
     // (near the line, where Lambert's sum is rounding noise, only the first is attainable).
     // An inner rule that gives up makes the outer one give up: NaN is not finite.
     let chord_integral = |d: f64, h: f64| -> (f64, f64) {
-        adaptive_gauss(&pieces_at(d), rule, &budget, LINE_TOL * estimate / h, |s, _| lambert(s, d)).unwrap_or((f64::NAN, f64::NAN))
+        adaptive_gauss(&pieces_at(d), rule, &budget, LINE_TOL * estimate / h, |s, _| lambert(s, d))
+            .unwrap_or((f64::NAN, f64::NAN))
     };
     let (g, _) = adaptive_gauss(&slabs, rule, &budget, LINE_TOL * estimate, chord_integral)?;
     (g > 0.0).then_some(g)
@@ -360,7 +375,13 @@ fn lambert_along_line(src: &[Vec3], n_src: Vec3, target: &[Vec3], p: Vec3, u: Ve
 /// rounding of the integrand (LINE_NOISE times the integrated magnitude). Returns the integral
 /// and the integrated magnitude; None when more than `budget` bisections are needed or the
 /// integrand is not finite.
-fn adaptive_gauss(pieces: &[(f64, f64)], rule: &[(f64, f64)], budget: &Cell<usize>, floor: f64, mut g: impl FnMut(f64, f64) -> (f64, f64)) -> Option<(f64, f64)> {
+fn adaptive_gauss(
+    pieces: &[(f64, f64)],
+    rule: &[(f64, f64)],
+    budget: &Cell<usize>,
+    floor: f64,
+    mut g: impl FnMut(f64, f64) -> (f64, f64),
+) -> Option<(f64, f64)> {
     let mut gauss = |a: f64, b: f64| {
         rule.iter().fold((0.0, 0.0), |(v, m), &(x, w)| {
             let (fv, fm) = g(a + (b - a) * x, b - a);
@@ -380,7 +401,9 @@ fn adaptive_gauss(pieces: &[(f64, f64)], rule: &[(f64, f64)], budget: &Cell<usiz
         if !parts.is_finite() {
             return None;
         }
-        if (parts - whole.0).abs() <= (LINE_TOL * first.abs()).max(floor).max(LINE_NOISE * parts_mag) || !(a < m && m < b) {
+        if (parts - whole.0).abs() <= (LINE_TOL * first.abs()).max(floor).max(LINE_NOISE * parts_mag)
+            || !(a < m && m < b)
+        {
             sum += parts;
             mag += parts_mag;
             continue;
@@ -594,7 +617,14 @@ mod tests {
         let turned = [v(0.0, 0.0, 0.0), v(0.0, 0.0, 1.0), v(1.0, 1e-6, 1.0), v(1.0, 1e-6, 0.0)];
         assert!(matches!(contact(&floor, Vec3::Z, &turned), Contact::Line(_, u) if (u - Vec3::X).length() > 1e-7));
         // along two lines (an L-shaped wall on two edges of the floor): Other
-        let two = [v(0.0, 1.0, 0.0), v(0.0, 0.0, 0.0), v(1.0, 0.0, 0.0), v(1.0, 0.0, 1.0), v(0.0, 0.0, 1.0), v(0.0, 1.0, 1.0)];
+        let two = [
+            v(0.0, 1.0, 0.0),
+            v(0.0, 0.0, 0.0),
+            v(1.0, 0.0, 0.0),
+            v(1.0, 0.0, 1.0),
+            v(0.0, 0.0, 1.0),
+            v(0.0, 1.0, 1.0),
+        ];
         assert_eq!(contact(&floor, Vec3::Z, &two), Contact::Other);
     }
 
@@ -626,7 +656,8 @@ mod tests {
         let (c, s) = (30f64.to_radians().cos(), 30f64.to_radians().sin());
         let w = 1e-5;
         let n = v(0.0, -s, c); // the strip's normal, facing the floor
-        let strip = |x0: f64, x1: f64| [v(x0, 0.5, 0.0), v(x1, 0.5, 0.0), v(x1, 0.5 + w * c, w * s), v(x0, 0.5 + w * c, w * s)];
+        let strip =
+            |x0: f64, x1: f64| [v(x0, 0.5, 0.0), v(x1, 0.5, 0.0), v(x1, 0.5 + w * c, w * s), v(x0, 0.5 + w * c, w * s)];
         let floor = |x0: f64, x1: f64| [v(x0, 0.0, 0.0), v(x1, 0.0, 0.0), v(x1, 0.5, 0.0), v(x0, 0.5, 0.0)];
         let g = |src: &[Vec3], tgt: &[Vec3]| {
             let Contact::Line(p, u) = contact(src, n, tgt) else { panic!("line contact expected") };
@@ -646,8 +677,10 @@ mod tests {
         // integrand is singular along the shared edge. Refinement towards the whole edge stops
         // at the negligible-change floor, 3e-10 off: why line contacts take lambert_along_line
         // (line_route_matches_perpendicular_rectangles_sharing_an_edge: 1e-13).
-        let src = [Vec3::new(0.0, 0.0, 0.0), Vec3::new(1.0, 0.0, 0.0), Vec3::new(1.0, 1.0, 0.0), Vec3::new(0.0, 1.0, 0.0)];
-        let tgt = [Vec3::new(0.0, 0.0, 0.0), Vec3::new(0.0, 0.0, 1.0), Vec3::new(1.0, 0.0, 1.0), Vec3::new(1.0, 0.0, 0.0)];
+        let src =
+            [Vec3::new(0.0, 0.0, 0.0), Vec3::new(1.0, 0.0, 0.0), Vec3::new(1.0, 1.0, 0.0), Vec3::new(0.0, 1.0, 0.0)];
+        let tgt =
+            [Vec3::new(0.0, 0.0, 0.0), Vec3::new(0.0, 0.0, 1.0), Vec3::new(1.0, 0.0, 1.0), Vec3::new(1.0, 0.0, 0.0)];
         let g = lambert_over_area(&src, Vec3::Z, &tgt, 1e-14).expect("converged");
         assert!((g - 0.200043776376147).abs() < 1e-9, "{g}");
     }

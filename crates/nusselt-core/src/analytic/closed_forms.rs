@@ -100,8 +100,8 @@ pub fn perpendicular_rectangles(l: f64, w: f64, h: f64) -> Result<f64> {
     let ln_a = w2.ln_1p() + h2.ln_1p() - (w2 + h2).ln_1p();
     let ln_b = w2.ln() + (w2 + h2).ln_1p() - w2.ln_1p() - (w2 + h2).ln();
     let ln_c = h2.ln() + (w2 + h2).ln_1p() - h2.ln_1p() - (w2 + h2).ln();
-    let t = bw * (1.0 / bw).atan() + bh * (1.0 / bh).atan() - s * (1.0 / s).atan()
-        + 0.25 * (ln_a + w2 * ln_b + h2 * ln_c);
+    let t =
+        bw * (1.0 / bw).atan() + bh * (1.0 / bh).atan() - s * (1.0 / s).atan() + 0.25 * (ln_a + w2 * ln_b + h2 * ln_c);
     Ok(t / (PI * bw))
 }
 
@@ -276,12 +276,8 @@ mod tests {
     }
 
     fn rect_xy(x: (f64, f64), y: (f64, f64), z: f64, up: bool) -> Vec<Vec3> {
-        let mut v = vec![
-            Vec3::new(x.0, y.0, z),
-            Vec3::new(x.1, y.0, z),
-            Vec3::new(x.1, y.1, z),
-            Vec3::new(x.0, y.1, z),
-        ];
+        let mut v =
+            vec![Vec3::new(x.0, y.0, z), Vec3::new(x.1, y.0, z), Vec3::new(x.1, y.1, z), Vec3::new(x.0, y.1, z)];
         if !up {
             v.reverse();
         }
@@ -387,7 +383,8 @@ mod tests {
         assert!((f - 0.201845405433).abs() < 1e-12);
 
         let f = perpendicular_rectangles_general(0.3, 1.3, 0.0, 2.0, 0.5, 1.5, 0.2, 1.0).unwrap();
-        let recv = vec![Vec3::new(0., 0.5, 0.2), Vec3::new(0., 1.5, 0.2), Vec3::new(0., 1.5, 1.0), Vec3::new(0., 0.5, 1.0)];
+        let recv =
+            vec![Vec3::new(0., 0.5, 0.2), Vec3::new(0., 1.5, 0.2), Vec3::new(0., 1.5, 1.0), Vec3::new(0., 0.5, 1.0)];
         let q = lambert_integral((0.3, 1.3), (0.0, 2.0), &recv, 60, 0);
         assert!((f - q).abs() < 1e-12 * q, "{f} {q}");
         assert!((f - 0.072571586221).abs() < 1e-12);

@@ -182,12 +182,8 @@ mod tests {
             Vec3::new(1., 0.5, -0.4),
         ];
         assert!(newell_normal(&full).x < 0.0);
-        let kept = vec![
-            Vec3::new(1., -0.5, 0.0),
-            Vec3::new(1., -0.5, 0.6),
-            Vec3::new(1., 0.5, 0.6),
-            Vec3::new(1., 0.5, 0.0),
-        ];
+        let kept =
+            vec![Vec3::new(1., -0.5, 0.0), Vec3::new(1., -0.5, 0.6), Vec3::new(1., 0.5, 0.6), Vec3::new(1., 0.5, 0.0)];
         let q = kernel_quad(p, n, &kept, 80);
         let f = point_polygon(p, n, &full);
         assert!((f - q).abs() < 1e-12 * q, "{f} {q}");
@@ -201,7 +197,8 @@ mod tests {
         let outer = square(Vec3::new(0., 0., 1.), 1.0, true);
         let hole: Vec<Vec3> = square(Vec3::new(0.2, 0., 1.), 0.3, false); // clockwise seen from p
         let ring = point_contour(p, Vec3::Z, &outer) + point_contour(p, Vec3::Z, &hole);
-        let want = point_polygon(p, Vec3::Z, &outer) - point_polygon(p, Vec3::Z, &square(Vec3::new(0.2, 0., 1.), 0.3, true));
+        let want =
+            point_polygon(p, Vec3::Z, &outer) - point_polygon(p, Vec3::Z, &square(Vec3::new(0.2, 0., 1.), 0.3, true));
         assert!((ring - want).abs() < 1e-15);
         let f = point_polygon(p, Vec3::Z, &outer);
         for s in [1e-3, 1e3, 1e6] {

@@ -6,12 +6,12 @@
 //! Valid when each polygon lies in the other's front half-space (clip first) and nothing is
 //! in between.
 
-use crate::geometry::{clip_pair, Polygon, Vec3};
 use super::area_routes::{analytic_line_threshold, if_cancelling};
+use crate::geometry::{clip_pair, Polygon, Vec3};
 use crate::quadrature::gauss_legendre;
 use crate::special::im_li2;
-use std::sync::OnceLock;
 use std::f64::consts::PI;
+use std::sync::OnceLock;
 
 /// Below this relative distance between the edge lines, D is treated as exactly 0
 /// (intersecting or touching lines; the dilogarithm term then vanishes).
@@ -85,7 +85,8 @@ pub fn edge_pair_log_integral(p0: Vec3, p1: Vec3, q0: Vec3, q1: Vec3) -> f64 {
         let d = (w - w.dot(u) * u).length();
         let reach = lp.abs().max(lq.abs()).max((la - lp).abs()).max((la - lq).abs()).max(d);
         if cancels(reach, la, lb) {
-            return parallel_by_offset(la, lp, lq, d).unwrap_or_else(|| b * single_line(p0, la, u, q0, q1, v, 0.0, 0.0, w));
+            return parallel_by_offset(la, lp, lq, d)
+                .unwrap_or_else(|| b * single_line(p0, la, u, q0, q1, v, 0.0, 0.0, w));
         }
         return parallel_pair(p0, la, u, q0, q1, lmax);
     }
@@ -220,10 +221,14 @@ fn parallel_by_offset(la: f64, lp: f64, lq: f64, d: f64) -> Option<f64> {
             continue;
         }
         let rule = gauss_legendre(nodes_for(((a * a + d * d).sqrt() + (b * b + d * d).sqrt()) / len)?);
-        total += len * rule.iter().map(|&(x, w)| {
-            let x = a + len * x;
-            w * weight(x) * (x * x + d * d).ln()
-        }).sum::<f64>();
+        total += len
+            * rule
+                .iter()
+                .map(|&(x, w)| {
+                    let x = a + len * x;
+                    w * weight(x) * (x * x + d * d).ln()
+                })
+                .sum::<f64>();
     }
     Some(sign * total)
 }
@@ -302,7 +307,13 @@ fn single_line(p0: Vec3, la: f64, u: Vec3, q0: Vec3, q1: Vec3, v: Vec3, s_star: 
         let (a, b, depth) = stack[top];
         let len = b - a;
         let near = sing.iter().any(|&(t, e)| {
-            let dx = if t < a { a - t } else if t > b { t - b } else { 0.0 };
+            let dx = if t < a {
+                a - t
+            } else if t > b {
+                t - b
+            } else {
+                0.0
+            };
             dx * dx + e * e < len * len
         });
         if near && depth < 60 {
@@ -315,7 +326,10 @@ fn single_line(p0: Vec3, la: f64, u: Vec3, q0: Vec3, q1: Vec3, v: Vec3, s_star: 
         // Nodes for rounding-level accuracy: the panel error is ~ rho^(-2n) for the largest
         // Bernstein ellipse (foci at the panel's ends) free of singularities, whose
         // semi-axis sum rho follows from the nearest one's distances to the ends.
-        let semi = sing.iter().map(|&(t, e)| (((t - a) * (t - a) + e * e).sqrt() + ((t - b) * (t - b) + e * e).sqrt()) / len).fold(f64::INFINITY, f64::min);
+        let semi = sing
+            .iter()
+            .map(|&(t, e)| (((t - a) * (t - a) + e * e).sqrt() + ((t - b) * (t - b) + e * e).sqrt()) / len)
+            .fold(f64::INFINITY, f64::min);
         let n = if near { LINE_NODES } else { nodes_for(semi).unwrap_or(LINE_NODES) };
         total += len * gauss_legendre(n).iter().map(|&(x, w)| w * phi(a + len * x)).sum::<f64>();
     }
@@ -372,8 +386,8 @@ pub fn polygon_pair_within(a: &Polygon, b: &Polygon, tol: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::special::gauss_legendre;
     use crate::analytic::closed_forms as cf;
+    use crate::special::gauss_legendre;
 
     /// Both evaluation routes of a skew edge pair, forced (closed form, single-line form).
     fn routes(p0: Vec3, p1: Vec3, q0: Vec3, q1: Vec3) -> (f64, f64) {
@@ -573,8 +587,8 @@ mod tests {
             let d2: f64 = (a0 - b1) * (a0 - b1);
             let c2: f64 = (a0 - b0) * (a0 - b0);
             let f2: f64 = (a1 - b1) * (a1 - b1);
-            let want = -(0.5 * ((e2 - g(e2)) + (d2 - g(d2)) + (g(c2) - c2) + (g(f2) - f2))
-                - 2.0 * (a1 - a0) * (b0 - b1));
+            let want =
+                -(0.5 * ((e2 - g(e2)) + (d2 - g(d2)) + (g(c2) - c2) + (g(f2) - f2)) - 2.0 * (a1 - a0) * (b0 - b1));
             let got = edge_pair_log_integral(Vec3::X * a0, Vec3::X * a1, Vec3::X * b0, Vec3::X * b1);
             assert!((got - want).abs() < 1e-14 * (1.0 + want.abs()), "{got} {want}");
         }
@@ -741,12 +755,12 @@ mod tests {
         let o = Vec3::ZERO;
         let one = Vec3::ONE;
         let cube = [
-            rect(o, Vec3::X, Vec3::Y),          // z = 0: X x Y = +Z (inward)
-            rect(one, -Vec3::Y, -Vec3::X),      // z = 1: (-Y) x (-X) = -Z
-            rect(o, Vec3::Y, Vec3::Z),          // x = 0: +X
-            rect(one, -Vec3::Z, -Vec3::Y),      // x = 1: -X
-            rect(o, Vec3::Z, Vec3::X),          // y = 0: +Y
-            rect(one, -Vec3::X, -Vec3::Z),      // y = 1: -Y
+            rect(o, Vec3::X, Vec3::Y),     // z = 0: X x Y = +Z (inward)
+            rect(one, -Vec3::Y, -Vec3::X), // z = 1: (-Y) x (-X) = -Z
+            rect(o, Vec3::Y, Vec3::Z),     // x = 0: +X
+            rect(one, -Vec3::Z, -Vec3::Y), // x = 1: -X
+            rect(o, Vec3::Z, Vec3::X),     // y = 0: +Y
+            rect(one, -Vec3::X, -Vec3::Z), // y = 1: -Y
         ];
         for (k, f) in cube.iter().enumerate() {
             let c = f.centroid();
@@ -788,7 +802,11 @@ mod tests {
         // Receiver touching the L along its reflex corner (shared vertex at (1,1,0)) and
         // standing on the plane: additivity still holds.
         let wall = rect(Vec3::new(1.0, 1.0, 0.0), Vec3::new(1.0, 1.0, 0.0).normalize(), Vec3::Z);
-        let wall = if wall.normal().dot(Vec3::new(-1.0, 1.0, 0.0)) < 0.0 { rect(Vec3::new(1.0, 1.0, 0.0), Vec3::Z, Vec3::new(1.0, 1.0, 0.0).normalize()) } else { wall };
+        let wall = if wall.normal().dot(Vec3::new(-1.0, 1.0, 0.0)) < 0.0 {
+            rect(Vec3::new(1.0, 1.0, 0.0), Vec3::Z, Vec3::new(1.0, 1.0, 0.0).normalize())
+        } else {
+            wall
+        };
         let whole = polygon_pair(&l, &wall);
         let parts = polygon_pair(&r1, &wall) + polygon_pair(&r2, &wall);
         assert!(whole > 0.0 && rel(whole, parts) < 1e-12, "{whole} {parts}");
@@ -845,10 +863,15 @@ mod tests {
                 let (t, b) = crate::geometry::tangent_frame(n);
                 let m = 3 + (rng.next() * 3.0) as usize;
                 let off = rng.range(0.0, 1.0);
-                Polygon::new((0..m).map(|i| {
-                    let a = 2.0 * PI * (i as f64 + off) / m as f64;
-                    c + t * a.cos() + b * (rng.range(0.5, 1.0) * a.sin())
-                }).collect()).unwrap()
+                Polygon::new(
+                    (0..m)
+                        .map(|i| {
+                            let a = 2.0 * PI * (i as f64 + off) / m as f64;
+                            c + t * a.cos() + b * (rng.range(0.5, 1.0) * a.sin())
+                        })
+                        .collect(),
+                )
+                .unwrap()
             };
             let dir = rng.vec(1.0).normalize();
             // normals tilted from the line of centres by up to 44 degrees, facing each other
@@ -948,7 +971,8 @@ mod tests {
         };
         let f = f_ab(&a, &b);
         assert!(f > 0.0);
-        let map = |p: &Polygon, s: f64, t: Vec3| Polygon::new(p.vertices().iter().map(|v| *v * s + t).collect()).unwrap();
+        let map =
+            |p: &Polygon, s: f64, t: Vec3| Polygon::new(p.vertices().iter().map(|v| *v * s + t).collect()).unwrap();
         for s in [1e-3, 1e3] {
             let g = f_ab(&map(&a, s, Vec3::ZERO), &map(&b, s, Vec3::ZERO));
             assert!(rel(g, f) < 1e-12, "scale {s}: {g} {f}");
@@ -963,4 +987,3 @@ mod tests {
         assert_eq!(polygon_pair(&a, &c), 0.0);
     }
 }
-

@@ -62,7 +62,7 @@ impl Default for HemicubeOptions {
 impl HemicubeOptions {
     pub fn check(&self) -> Result<()> {
         let r = self.resolution;
-        if !(4..=4096).contains(&r) || r % 2 != 0 {
+        if !(4..=4096).contains(&r) || !r.is_multiple_of(2) {
             return Err(Error::InvalidArgument(format!("hemicube resolution must be even and in 4..=4096, got {r}")));
         }
         if !(self.near > 0.0 && self.near <= 0.1) {
@@ -281,7 +281,17 @@ pub fn hemicube_row(scene: &[Polygon], receivers: &[bool], i: usize, opts: &Hemi
 /// Clips `poly` to the element's front half-space, then per face to the near plane, and
 /// scan-converts it.
 #[allow(clippy::too_many_arguments)]
-fn project_polygon(s: &mut Scratch, poly: &Polygon, id: u32, eye: Vec3, u: Vec3, v: Vec3, n: Vec3, near: f64, res: usize) {
+fn project_polygon(
+    s: &mut Scratch,
+    poly: &Polygon,
+    id: u32,
+    eye: Vec3,
+    u: Vec3,
+    v: Vec3,
+    n: Vec3,
+    near: f64,
+    res: usize,
+) {
     s.local.clear();
     let mut zmax = f64::NEG_INFINITY;
     for x in poly.vertices() {
@@ -348,7 +358,8 @@ fn accumulate(s: &mut Scratch, res: usize, weight: f64) -> f64 {
     let mut lost = 0.0;
     let side_len = res * res / 2;
     for f in 0..5 {
-        let (off, table): (usize, &[f64]) = if f == 0 { (0, &s.top) } else { (res * res + (f - 1) * side_len, &s.side) };
+        let (off, table): (usize, &[f64]) =
+            if f == 0 { (0, &s.top) } else { (res * res + (f - 1) * side_len, &s.side) };
         for (c, &df) in table.iter().enumerate() {
             match s.item[off + c] {
                 EMPTY | BACK => lost += df,
@@ -409,13 +420,23 @@ mod tests {
     #[test]
     fn point_to_square_matches_lambert() {
         let exact = 4.0 * corner_rect(0.5, 0.5); // 0.239456
-        let recv = quad(Vec3::new(-0.5, -0.5, 1.), Vec3::new(-0.5, 0.5, 1.), Vec3::new(0.5, 0.5, 1.), Vec3::new(0.5, -0.5, 1.));
+        let recv = quad(
+            Vec3::new(-0.5, -0.5, 1.),
+            Vec3::new(-0.5, 0.5, 1.),
+            Vec3::new(0.5, 0.5, 1.),
+            Vec3::new(0.5, -0.5, 1.),
+        );
         let scene = tiny_source_facing(vec![recv], Vec3::ZERO, Vec3::Z);
         let rec = vec![true; 2];
         // res a multiple of 4: the outline x, y = +-0.5 lies on cell boundaries, so the
         // exact cell integrals must reproduce the exact value
         for res in [32u32, 128] {
-            let o = HemicubeOptions { resolution: res, source: SourcePoints::Centre, random_rotation: false, ..Default::default() };
+            let o = HemicubeOptions {
+                resolution: res,
+                source: SourcePoints::Centre,
+                random_rotation: false,
+                ..Default::default()
+            };
             let r = hemicube_row(&scene, &rec, 0, &o).unwrap();
             let f = r.get(1);
             assert!((f - exact).abs() < 1e-12, "res {res}: {f} vs {exact}");
@@ -438,8 +459,14 @@ mod tests {
     fn occluded_half() {
         // Source at origin facing +z; receiver [-.5,.5]^2 at z = 2; blocker [-.5,0]x[-.5,.5]
         // at z = 1 shadows exactly the receiver's x < 0 half.
-        let recv = quad(Vec3::new(-0.5, -0.5, 2.), Vec3::new(-0.5, 0.5, 2.), Vec3::new(0.5, 0.5, 2.), Vec3::new(0.5, -0.5, 2.));
-        let block = quad(Vec3::new(-0.5, -0.5, 1.), Vec3::new(-0.5, 0.5, 1.), Vec3::new(0., 0.5, 1.), Vec3::new(0., -0.5, 1.));
+        let recv = quad(
+            Vec3::new(-0.5, -0.5, 2.),
+            Vec3::new(-0.5, 0.5, 2.),
+            Vec3::new(0.5, 0.5, 2.),
+            Vec3::new(0.5, -0.5, 2.),
+        );
+        let block =
+            quad(Vec3::new(-0.5, -0.5, 1.), Vec3::new(-0.5, 0.5, 1.), Vec3::new(0., 0.5, 1.), Vec3::new(0., -0.5, 1.));
         let scene = tiny_source_facing(vec![recv, block], Vec3::ZERO, Vec3::Z);
         let rec = vec![true; 3];
         let o = HemicubeOptions { resolution: 512, source: SourcePoints::Centre, ..Default::default() };
@@ -485,7 +512,12 @@ mod tests {
         let fq = hemicube_row(&per, &[true, true], 0, &o).unwrap().get(1);
         assert!((fp - ep).abs() < 3e-4 && (fq - eq).abs() < 3e-4, "{fp} {fq}");
         // centre only: the proximity error of docs/algorithms.md §2.4 (+20 % at d = side)
-        let o = HemicubeOptions { resolution: 256, source: SourcePoints::Centre, random_rotation: false, ..Default::default() };
+        let o = HemicubeOptions {
+            resolution: 256,
+            source: SourcePoints::Centre,
+            random_rotation: false,
+            ..Default::default()
+        };
         let fc = hemicube_row(&par, &[true, true], 0, &o).unwrap().get(1);
         assert!((fc - 4.0 * corner_rect(0.5, 0.5)).abs() < 3e-3, "{fc}");
     }
@@ -520,10 +552,11 @@ mod tests {
     fn scale_invariant() {
         let o = HemicubeOptions { resolution: 64, source: SourcePoints::Points(4), ..Default::default() };
         let base = closed_box(Vec3::ZERO, Vec3::new(1., 2., 3.), 2, true);
-        let a = hemicube_row(&base, &vec![true; 24], 3, &o).unwrap();
+        let a = hemicube_row(&base, &[true; 24], 3, &o).unwrap();
         for s in [1e-3, 1e3] {
-            let sc: Vec<Polygon> = base.iter().map(|p| Polygon::new(p.vertices().iter().map(|v| *v * s).collect()).unwrap()).collect();
-            let b = hemicube_row(&sc, &vec![true; 24], 3, &o).unwrap();
+            let sc: Vec<Polygon> =
+                base.iter().map(|p| Polygon::new(p.vertices().iter().map(|v| *v * s).collect()).unwrap()).collect();
+            let b = hemicube_row(&sc, &[true; 24], 3, &o).unwrap();
             assert_eq!(a.entries.len(), b.entries.len());
             for (x, y) in a.entries.iter().zip(&b.entries) {
                 assert_eq!(x.0, y.0);

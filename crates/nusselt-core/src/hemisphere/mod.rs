@@ -131,7 +131,7 @@ impl SourcePoints {
             return;
         }
         let sampler = PolygonSampler::new(poly);
-        let s = hash_seed(seed, &[i as u64, 0x5EED_0F_50_u64]);
+        let s = hash_seed(seed, &[i as u64, 0x5EED_0F50_u64]);
         let w = 1.0 / n as f64;
         for k in 0..n {
             let u = sobol4(k, s);
@@ -272,7 +272,15 @@ pub(crate) mod brute {
             out.clear();
             out.extend((0..self.scene.len() as u32).filter(|j| !ignore.contains(j)));
         }
-        fn candidates_toward_box(&self, a: &Polygon, _lo: Vec3, _hi: Vec3, ignore: &[u32], among: Option<&[u32]>, out: &mut Vec<u32>) {
+        fn candidates_toward_box(
+            &self,
+            a: &Polygon,
+            _lo: Vec3,
+            _hi: Vec3,
+            ignore: &[u32],
+            among: Option<&[u32]>,
+            out: &mut Vec<u32>,
+        ) {
             match among {
                 Some(among) => self.candidates_among(a, a, ignore, among, out),
                 None => self.candidates_between(a, a, ignore, out),
@@ -367,7 +375,8 @@ pub(crate) mod testkit {
         let (x, y) = (a / c, b / c);
         let (x2, y2) = (1. + x * x, 1. + y * y);
         2. / (PI * x * y)
-            * ((x2 * y2 / (x2 + y2 - 1.)).sqrt().ln() + x * y2.sqrt() * (x / y2.sqrt()).atan()
+            * ((x2 * y2 / (x2 + y2 - 1.)).sqrt().ln()
+                + x * y2.sqrt() * (x / y2.sqrt()).atan()
                 + y * x2.sqrt() * (y / x2.sqrt()).atan()
                 - x * x.atan()
                 - y * y.atan())
@@ -381,7 +390,8 @@ pub(crate) mod testkit {
         let b = ww * ww * (1. + ww * ww + hh * hh) / ((1. + ww * ww) * (ww * ww + hh * hh));
         let c = hh * hh * (1. + hh * hh + ww * ww) / ((1. + hh * hh) * (hh * hh + ww * ww));
         1. / (PI * ww)
-            * (ww * (1. / ww).atan() + hh * (1. / hh).atan() - (hh * hh + ww * ww).sqrt() * (1. / (hh * hh + ww * ww).sqrt()).atan()
+            * (ww * (1. / ww).atan() + hh * (1. / hh).atan()
+                - (hh * hh + ww * ww).sqrt() * (1. / (hh * hh + ww * ww).sqrt()).atan()
                 + 0.25 * (a.ln() + ww * ww * b.ln() + hh * hh * c.ln()))
     }
 
@@ -406,7 +416,14 @@ pub(crate) mod testkit {
     #[test]
     fn references_checked() {
         // corner rectangle vs midpoint integration; square on axis = 4 corners = 0.239456
-        let mid = point_to_polygon_midpoint(Vec3::ZERO, Vec3::Z, Vec3::new(0., 0., 1.), Vec3::new(0.7, 0., 0.), Vec3::new(0., 1.3, 0.), 800);
+        let mid = point_to_polygon_midpoint(
+            Vec3::ZERO,
+            Vec3::Z,
+            Vec3::new(0., 0., 1.),
+            Vec3::new(0.7, 0., 0.),
+            Vec3::new(0., 1.3, 0.),
+            800,
+        );
         assert!((mid - corner_rect(0.7, 1.3)).abs() < 1e-6, "{mid} {}", corner_rect(0.7, 1.3));
         let sq = 4.0 * corner_rect(0.5, 0.5);
         assert!((sq - 0.239456).abs() < 1e-6, "{sq}");
@@ -442,8 +459,8 @@ mod room_tests {
     //! Surface-level checks on rooms; rays go through the scene's BVH (tested against brute
     //! force in visibility::bvh), as they would in use.
     use super::testkit::*;
-    use crate::visibility::bvh::Bvh;
     use super::*;
+    use crate::visibility::bvh::Bvh;
 
     /// Surface-level matrix: F_IJ = sum_{i in I} A_i sum_{j in J} F_ij / A_I.
     fn surface_matrix(scene: &[Polygon], surf: &[usize], rows: &[RowResult]) -> Vec<Vec<f64>> {
@@ -500,7 +517,10 @@ mod room_tests {
                     worst = worst.max((f[a][b] - e).abs());
                 }
                 let sums: Vec<f64> = rows.iter().map(|r| r.sum() + r.lost).collect();
-                eprintln!("m {m} {method}: worst surface error {worst:.2e}, mean lost {:.2e}", rows.iter().map(|r| r.lost).sum::<f64>() / rows.len() as f64);
+                eprintln!(
+                    "m {m} {method}: worst surface error {worst:.2e}, mean lost {:.2e}",
+                    rows.iter().map(|r| r.lost).sum::<f64>() / rows.len() as f64
+                );
                 assert!(worst < 1e-2, "m {m} {method}: {worst}");
                 assert!(sums.iter().all(|s| (s - 1.0).abs() < 1e-9));
             }
@@ -517,7 +537,8 @@ mod room_tests {
         let vis = Bvh::new(&coarse).unwrap();
         let rec = vec![true; coarse.len()];
         let o = RaytraceOptions { rays: 1 << 18, seed: 12345 };
-        let reference: Vec<RowResult> = (0..coarse.len()).map(|i| raytrace_row(&coarse, &vis, &rec, i, &o).unwrap()).collect();
+        let reference: Vec<RowResult> =
+            (0..coarse.len()).map(|i| raytrace_row(&coarse, &vis, &rec, i, &o).unwrap()).collect();
         let fref = surface_matrix(&coarse, &(0..12).collect::<Vec<_>>(), &reference);
         for (m, c) in [(1usize, 1usize), (4, 2)] {
             let (scene, surf) = room_with_crate(m, c);
@@ -536,7 +557,9 @@ mod room_tests {
                 }
                 eprintln!("  worst at {at:?}: {} vs {}", f[at.0][at.1], fref[at.0][at.1]);
                 let worst_sum = rows.iter().map(|r| (r.sum() - 1.0).abs()).fold(0.0, f64::max);
-                eprintln!("room {m}/{c} {method}: worst surface error {worst:.2e}, worst |row sum - 1| {worst_sum:.2e}");
+                eprintln!(
+                    "room {m}/{c} {method}: worst surface error {worst:.2e}, worst |row sum - 1| {worst_sum:.2e}"
+                );
                 assert!(worst < 1e-2, "{m}/{c} {method}: {worst}");
                 assert!(worst_sum < 1e-2, "{m}/{c} {method}: {worst_sum}");
             }
@@ -559,7 +582,12 @@ mod room_tests {
                 s += f(i).sum();
             }
             let dt = t.elapsed().as_secs_f64();
-            eprintln!("{name}: {:.1} rows/s ({} rows, mean row sum {:.4})", rows.len() as f64 / dt, rows.len(), s / rows.len() as f64);
+            eprintln!(
+                "{name}: {:.1} rows/s ({} rows, mean row sum {:.4})",
+                rows.len() as f64 / dt,
+                rows.len(),
+                s / rows.len() as f64
+            );
         };
         time("hemicube", &|i| hemicube_row(&scene, &rec, i, &HemicubeOptions::default()).unwrap());
         time("single_plane", &|i| single_plane_row(&scene, &rec, i, &SinglePlaneOptions::default()).unwrap());

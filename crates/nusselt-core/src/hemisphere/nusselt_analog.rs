@@ -49,7 +49,10 @@ impl Default for NusseltOptions {
 impl NusseltOptions {
     pub fn check(&self) -> Result<()> {
         if self.cells == 0 || self.cells > MAX_CELLS {
-            return Err(Error::InvalidArgument(format!("nusselt cells must be in 1..={MAX_CELLS}, got {}", self.cells)));
+            return Err(Error::InvalidArgument(format!(
+                "nusselt cells must be in 1..={MAX_CELLS}, got {}",
+                self.cells
+            )));
         }
         self.source.check()
     }
@@ -137,7 +140,12 @@ mod tests {
         let e = 1e-4;
         let scene = vec![
             quad(Vec3::new(-e, -e, 0.), Vec3::new(e, -e, 0.), Vec3::new(e, e, 0.), Vec3::new(-e, e, 0.)),
-            quad(Vec3::new(-0.5, -0.5, 1.), Vec3::new(-0.5, 0.5, 1.), Vec3::new(0.5, 0.5, 1.), Vec3::new(0.5, -0.5, 1.)),
+            quad(
+                Vec3::new(-0.5, -0.5, 1.),
+                Vec3::new(-0.5, 0.5, 1.),
+                Vec3::new(0.5, 0.5, 1.),
+                Vec3::new(0.5, -0.5, 1.),
+            ),
         ];
         let exact = 4.0 * corner_rect(0.5, 0.5);
         let mut errs = Vec::new();
@@ -154,7 +162,14 @@ mod tests {
         assert!(errs[2] < 1e-3 && errs[2] < errs[0], "{errs:?}");
         // jittered: unbiased; the mean over seeds agrees within 4 standard errors of the mean
         let runs: Vec<f64> = (0..64)
-            .map(|seed| row(&scene, 0, &NusseltOptions { cells: 1024, source: SourcePoints::Centre, seed, ..Default::default() }).get(1))
+            .map(|seed| {
+                row(
+                    &scene,
+                    0,
+                    &NusseltOptions { cells: 1024, source: SourcePoints::Centre, seed, ..Default::default() },
+                )
+                .get(1)
+            })
             .collect();
         let m = runs.iter().sum::<f64>() / 64.0;
         let sd = (runs.iter().map(|x| (x - m).powi(2)).sum::<f64>() / 63.0).sqrt();
@@ -181,7 +196,12 @@ mod tests {
         let e = 1e-4;
         let scene = vec![
             quad(Vec3::new(-e, -e, 0.), Vec3::new(e, -e, 0.), Vec3::new(e, e, 0.), Vec3::new(-e, e, 0.)),
-            quad(Vec3::new(-0.5, -0.5, 2.), Vec3::new(-0.5, 0.5, 2.), Vec3::new(0.5, 0.5, 2.), Vec3::new(0.5, -0.5, 2.)),
+            quad(
+                Vec3::new(-0.5, -0.5, 2.),
+                Vec3::new(-0.5, 0.5, 2.),
+                Vec3::new(0.5, 0.5, 2.),
+                Vec3::new(0.5, -0.5, 2.),
+            ),
             quad(Vec3::new(-0.5, -0.5, 1.), Vec3::new(-0.5, 0.5, 1.), Vec3::new(0., 0.5, 1.), Vec3::new(0., -0.5, 1.)),
         ];
         let r = row(&scene, 0, &NusseltOptions { cells: 1 << 16, source: SourcePoints::Centre, ..Default::default() });

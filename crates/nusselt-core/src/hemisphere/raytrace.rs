@@ -154,14 +154,26 @@ mod tests {
         let e = 1e-3;
         let scene = vec![
             quad(Vec3::new(-e, -e, 0.), Vec3::new(e, -e, 0.), Vec3::new(e, e, 0.), Vec3::new(-e, e, 0.)),
-            quad(Vec3::new(-0.5, -0.5, 2.), Vec3::new(-0.5, 0.5, 2.), Vec3::new(0.5, 0.5, 2.), Vec3::new(0.5, -0.5, 2.)),
+            quad(
+                Vec3::new(-0.5, -0.5, 2.),
+                Vec3::new(-0.5, 0.5, 2.),
+                Vec3::new(0.5, 0.5, 2.),
+                Vec3::new(0.5, -0.5, 2.),
+            ),
             quad(Vec3::new(-0.5, -0.5, 1.), Vec3::new(-0.5, 0.5, 1.), Vec3::new(0., 0.5, 1.), Vec3::new(0., -0.5, 1.)),
         ];
         let r = row(&scene, 0, &RaytraceOptions { rays: 1 << 16, seed: 1 });
         assert!(within(&r, 1, 2.0 * corner_rect(0.25, 0.25)), "{r:?}");
         assert!(within(&r, 2, 2.0 * corner_rect(0.5, 0.5)), "{r:?}");
         // non-receiver blocker: same hits on the receiver, blocker not reported
-        let r2 = raytrace_row(&scene, &BruteForce { scene: &scene }, &[true, true, false], 0, &RaytraceOptions { rays: 1 << 16, seed: 1 }).unwrap();
+        let r2 = raytrace_row(
+            &scene,
+            &BruteForce { scene: &scene },
+            &[true, true, false],
+            0,
+            &RaytraceOptions { rays: 1 << 16, seed: 1 },
+        )
+        .unwrap();
         assert_eq!(r2.entries, vec![r.entries[0]]);
     }
 

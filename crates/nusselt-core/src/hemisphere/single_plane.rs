@@ -74,10 +74,16 @@ impl Default for SinglePlaneOptions {
 impl SinglePlaneOptions {
     pub fn check(&self) -> Result<()> {
         if !(self.half_width >= 0.5 && self.half_width <= 1e4) {
-            return Err(Error::InvalidArgument(format!("single-plane half_width must be in [0.5, 1e4], got {}", self.half_width)));
+            return Err(Error::InvalidArgument(format!(
+                "single-plane half_width must be in [0.5, 1e4], got {}",
+                self.half_width
+            )));
         }
         if !(self.min_cell >= 1e-4 && self.min_cell <= 1.0) {
-            return Err(Error::InvalidArgument(format!("single-plane min_cell must be in [1e-4, 1], got {}", self.min_cell)));
+            return Err(Error::InvalidArgument(format!(
+                "single-plane min_cell must be in [1e-4, 1], got {}",
+                self.min_cell
+            )));
         }
         if !(self.near > 0.0 && self.near <= 0.1) {
             return Err(Error::InvalidArgument(format!("single-plane near must be in (0, 0.1], got {}", self.near)));
@@ -282,7 +288,8 @@ impl Scratch {
                 if same_plane(w, wg) {
                     cover += self.areas[k];
                 } else if others_behind {
-                    others_behind = corners.iter().all(|c| weval(w, c[0], c[1]) <= weval(wg, c[0], c[1]) * (1.0 + 1e-12));
+                    others_behind =
+                        corners.iter().all(|c| weval(w, c[0], c[1]) <= weval(wg, c[0], c[1]) * (1.0 + 1e-12));
                 }
             }
             let alone = self.planes.len() == 1;
@@ -328,7 +335,12 @@ impl Scratch {
 
 /// Row i of the form-factor matrix by the single-plane method; see the module notes.
 /// `lost` includes the horizon band 1 - 4 Phi(a, a) the plane cannot see.
-pub fn single_plane_row(scene: &[Polygon], receivers: &[bool], i: usize, opts: &SinglePlaneOptions) -> Result<RowResult> {
+pub fn single_plane_row(
+    scene: &[Polygon],
+    receivers: &[bool],
+    i: usize,
+    opts: &SinglePlaneOptions,
+) -> Result<RowResult> {
     check_row(scene, receivers, i)?;
     opts.check()?;
     SCRATCH.with(|s| {
@@ -461,13 +473,23 @@ mod tests {
 
     fn tiny(centre: Vec3) -> Polygon {
         let e = 1e-4;
-        quad(centre + Vec3::new(-e, -e, 0.), centre + Vec3::new(e, -e, 0.), centre + Vec3::new(e, e, 0.), centre + Vec3::new(-e, e, 0.))
+        quad(
+            centre + Vec3::new(-e, -e, 0.),
+            centre + Vec3::new(e, -e, 0.),
+            centre + Vec3::new(e, e, 0.),
+            centre + Vec3::new(-e, e, 0.),
+        )
     }
 
     #[test]
     fn point_cases_exact_without_overlap() {
         // One receiver only: rule 1 everywhere, so the value is exact (Lambert).
-        let recv = quad(Vec3::new(-0.5, -0.5, 1.), Vec3::new(-0.5, 0.5, 1.), Vec3::new(0.5, 0.5, 1.), Vec3::new(0.5, -0.5, 1.));
+        let recv = quad(
+            Vec3::new(-0.5, -0.5, 1.),
+            Vec3::new(-0.5, 0.5, 1.),
+            Vec3::new(0.5, 0.5, 1.),
+            Vec3::new(0.5, -0.5, 1.),
+        );
         let scene = vec![tiny(Vec3::ZERO), recv];
         let o = SinglePlaneOptions { source: SourcePoints::Centre, ..Default::default() };
         let r = single_plane_row(&scene, &[true, true], 0, &o).unwrap();
@@ -479,8 +501,14 @@ mod tests {
 
     #[test]
     fn occluded_half() {
-        let recv = quad(Vec3::new(-0.5, -0.5, 2.), Vec3::new(-0.5, 0.5, 2.), Vec3::new(0.5, 0.5, 2.), Vec3::new(0.5, -0.5, 2.));
-        let block = quad(Vec3::new(-0.5, -0.5, 1.), Vec3::new(-0.5, 0.5, 1.), Vec3::new(0., 0.5, 1.), Vec3::new(0., -0.5, 1.));
+        let recv = quad(
+            Vec3::new(-0.5, -0.5, 2.),
+            Vec3::new(-0.5, 0.5, 2.),
+            Vec3::new(0.5, 0.5, 2.),
+            Vec3::new(0.5, -0.5, 2.),
+        );
+        let block =
+            quad(Vec3::new(-0.5, -0.5, 1.), Vec3::new(-0.5, 0.5, 1.), Vec3::new(0., 0.5, 1.), Vec3::new(0., -0.5, 1.));
         let scene = vec![tiny(Vec3::ZERO), recv, block];
         let o = SinglePlaneOptions { source: SourcePoints::Centre, ..Default::default() };
         let r = single_plane_row(&scene, &[true; 3], 0, &o).unwrap();

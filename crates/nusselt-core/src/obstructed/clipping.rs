@@ -175,7 +175,11 @@ pub(super) fn adaptive_over_source(
         let (zero, lit) = (std::cell::Cell::new(false), std::cell::Cell::new(false));
         let g = |x: Vec3| {
             let v = f(x, &bl);
-            if v == 0.0 { zero.set(true) } else { lit.set(true) }
+            if v == 0.0 {
+                zero.set(true)
+            } else {
+                lit.set(true)
+            }
             v
         };
         let k = split(&l.t);
@@ -217,7 +221,7 @@ pub(super) fn adaptive_over_source(
     }
     let mut total_err: f64 = heap.iter().map(|l| l.err).sum();
     let mut done = Vec::new(); // leaves at the depth limit
-    // [methods] `go_on`: stop at cancellation or when the pair's work budget is spent
+                               // [methods] `go_on`: stop at cancellation or when the pair's work budget is spent
     while total_err > goal && evals.get() < o.max_evals && crate::work::go_on() {
         let Some(mut worst) = heap.pop() else { break };
         total_err -= worst.err;
@@ -296,8 +300,21 @@ mod tests {
     /// a tight reference.
     #[test]
     fn the_integral_runs_over_the_side_away_from_the_blockers() {
-        let plate = |z: f64, up: bool| facing_quad(vec![Vec3::new(0.0, 0.0, z), Vec3::new(1.0, 0.0, z), Vec3::new(1.0, 1.0, z), Vec3::new(0.0, 1.0, z)], if up { Vec3::Z } else { -Vec3::Z });
-        let blocker = facing_quad(vec![Vec3::new(0.3, -0.2, -0.1), Vec3::new(0.6, -0.2, 0.5), Vec3::new(0.6, 0.7, 0.5), Vec3::new(0.3, 0.7, -0.1)], Vec3::new(-2.0, 0.0, 1.0));
+        let plate = |z: f64, up: bool| {
+            facing_quad(
+                vec![Vec3::new(0.0, 0.0, z), Vec3::new(1.0, 0.0, z), Vec3::new(1.0, 1.0, z), Vec3::new(0.0, 1.0, z)],
+                if up { Vec3::Z } else { -Vec3::Z },
+            )
+        };
+        let blocker = facing_quad(
+            vec![
+                Vec3::new(0.3, -0.2, -0.1),
+                Vec3::new(0.6, -0.2, 0.5),
+                Vec3::new(0.6, 0.7, 0.5),
+                Vec3::new(0.3, 0.7, -0.1),
+            ],
+            Vec3::new(-2.0, 0.0, 1.0),
+        );
         let polys = vec![plate(0.0, true), plate(1.0, false), blocker];
         assert!(clearance(&polys[0], &[&polys[2]]) < clearance(&polys[1], &[&polys[2]]));
         let o = VisOptions { tol: 1e-5, exact_tol: 1e-12, ..Default::default() };
@@ -306,7 +323,11 @@ mod tests {
         let reference = clipping(&polys, 0, 1, &VisOptions { tol: 1e-10, max_evals: 2_000_000, ..o.clone() });
         let free = method::area_factor(&polys[0], &polys[1], Method::Analytic, &Default::default(), None).unwrap();
         assert!(reference < 0.9 * free && reference > 0.1 * free, "hidden fraction {}", 1.0 - reference / free);
-        assert!((g01 - reference).abs() <= 1e-5 * free, "error {:.2e} of the unobstructed G", (g01 - reference).abs() / free);
+        assert!(
+            (g01 - reference).abs() <= 1e-5 * free,
+            "error {:.2e} of the unobstructed G",
+            (g01 - reference).abs() / free
+        );
     }
 
     /// A wall tile and a ceiling tile on either side of a crate's vertical edge: the edge's
@@ -317,9 +338,15 @@ mod tests {
     #[test]
     fn nearly_parallel_edges_meet_the_target() {
         let (y0, y1, z0) = (5.0 / 7.0, 6.0 / 7.0, 6.0 / 7.0);
-        let source = facing_quad(vec![Vec3::new(0.0, y0, z0), Vec3::new(0.0, y1, z0), Vec3::new(0.0, y1, 1.0), Vec3::new(0.0, y0, 1.0)], Vec3::X);
+        let source = facing_quad(
+            vec![Vec3::new(0.0, y0, z0), Vec3::new(0.0, y1, z0), Vec3::new(0.0, y1, 1.0), Vec3::new(0.0, y0, 1.0)],
+            Vec3::X,
+        );
         let (x0, y2) = (20.0 / 7.0, 4.0 / 7.0);
-        let receiver = facing_quad(vec![Vec3::new(x0, y0, 3.0), Vec3::new(3.0, y0, 3.0), Vec3::new(3.0, y2, 3.0), Vec3::new(x0, y2, 3.0)], -Vec3::Z);
+        let receiver = facing_quad(
+            vec![Vec3::new(x0, y0, 3.0), Vec3::new(3.0, y0, 3.0), Vec3::new(3.0, y2, 3.0), Vec3::new(x0, y2, 3.0)],
+            -Vec3::Z,
+        );
         let mut polys = vec![source, receiver];
         polys.extend(box_faces(Vec3::new(0.8, 0.7, 1.1), Vec3::new(1.8, 1.7, 2.1)));
         let value = |tol: f64| clipping(&polys, 0, 1, &VisOptions { tol, exact_tol: 1e-12, ..Default::default() });

@@ -107,8 +107,10 @@ fn kink_planes(a: &Polygon, receiver: &Polygon, blockers: &[&Polygon]) -> Kinks 
             Ok(r + (q - r) * (dr / (dr - dq)))
         }
     };
-    let traces: Vec<Vec<Vec<std::result::Result<Vec3, i8>>>> =
-        blockers.iter().map(|b| rec.iter().map(|&r| b.vertices().iter().map(|&q| trace(r, q)).collect()).collect()).collect();
+    let traces: Vec<Vec<Vec<std::result::Result<Vec3, i8>>>> = blockers
+        .iter()
+        .map(|b| rec.iter().map(|&r| b.vertices().iter().map(|&q| trace(r, q)).collect()).collect())
+        .collect();
     // Whether an event of the plane (q, n) whose ends on the source's plane are `ends` crosses
     // the source: their stretch along the plane's trace direction meets the source's chord
     // there. Unbounded events (an end that never reaches the plane) are kept.
@@ -118,7 +120,10 @@ fn kink_planes(a: &Polygon, receiver: &Polygon, blockers: &[&Polygon]) -> Kinks 
             return true;
         }
         let u = u.normalize();
-        let (lo, hi) = ends.iter().flatten().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), x| (lo.min(u.dot(*x)), hi.max(u.dot(*x))));
+        let (lo, hi) = ends
+            .iter()
+            .flatten()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), x| (lo.min(u.dot(*x)), hi.max(u.dot(*x))));
         let (mut slo, mut shi) = (f64::INFINITY, f64::NEG_INFINITY);
         for k in 0..src.len() {
             let (x, y) = (src[k], src[(k + 1) % src.len()]);

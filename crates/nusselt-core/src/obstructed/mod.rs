@@ -23,7 +23,9 @@ use crate::geometry::{Polygon, Vec3};
 use crate::method::{self, Method, RuleCache};
 use crate::quadrature::AreaRule;
 use crate::sampling::{sobol4, PolygonSampler};
-use crate::visibility::shadow::{hides_whole, point_free_and_shadowed, point_shadowed_view_factor, point_visible_view_factor};
+use crate::visibility::shadow::{
+    hides_whole, point_free_and_shadowed, point_shadowed_view_factor, point_visible_view_factor,
+};
 use crate::visibility::{Occluders, Visibility};
 use clipping::{adaptive_over_source, clearance, ShadowTest};
 use kinks::split_at_kinks;
@@ -133,7 +135,8 @@ pub fn pair_with(ctx: &Context, i: usize, j: usize, m: VisMethod, o: &VisOptions
             }
         }
         VisMethod::Subdivision | VisMethod::Adaptive => {
-            let pieces = if m == VisMethod::Subdivision { Some(subdivide_at_blockers(b, &blockers, o.divisions)) } else { None };
+            let pieces =
+                if m == VisMethod::Subdivision { Some(subdivide_at_blockers(b, &blockers, o.divisions)) } else { None };
             let mut g = 0.0;
             let points = match o.source_points {
                 Some(k) => source_points(sa, k),
@@ -274,7 +277,17 @@ pub fn point(ctx: &Context, p: Vec3, n: Vec3, j: usize, m: VisMethod, o: &VisOpt
                         let y = sampler.sample([u[0], u[1]]);
                         let blocked = !visible(y);
                         let w = kernel(p, n, y, b.normal());
-                        acc += if o.control_variate { if blocked { w } else { 0.0 } } else if blocked { 0.0 } else { w };
+                        acc += if o.control_variate {
+                            if blocked {
+                                w
+                            } else {
+                                0.0
+                            }
+                        } else if blocked {
+                            0.0
+                        } else {
+                            w
+                        };
                     }
                     mean += area * acc / *count as f64;
                 }
@@ -282,7 +295,9 @@ pub fn point(ctx: &Context, p: Vec3, n: Vec3, j: usize, m: VisMethod, o: &VisOpt
             }
             mean_and_error(&est)
         }
-        VisMethod::Subdivision => Estimate::exact(uniform_point(p, n, &subdivide_at_blockers(b, &blockers, o.divisions), &visible)),
+        VisMethod::Subdivision => {
+            Estimate::exact(uniform_point(p, n, &subdivide_at_blockers(b, &blockers, o.divisions), &visible))
+        }
         VisMethod::Adaptive => Estimate::exact(adaptive_point(p, n, b, &visible, o)),
         VisMethod::Clipping | VisMethod::Auto => Estimate::exact(point_visible_view_factor(p, n, b, &blockers)),
     })

@@ -27,7 +27,13 @@ pub(super) fn kernel(x: Vec3, nx: Vec3, y: Vec3, ny: Vec3) -> f64 {
 /// composite over the pieces of both polygons cut along the blockers' planes (see
 /// [`cut_at_blocker_planes`]), a piece of a fraction f of its polygon's area getting order
 /// ceil(order sqrt f): about order^2 points per polygon however it is cut.
-pub(super) fn quadrature(a: &Polygon, b: &Polygon, pred: Option<&dyn Fn(Vec3, Vec3) -> bool>, blockers: &[&Polygon], o: &VisOptions) -> f64 {
+pub(super) fn quadrature(
+    a: &Polygon,
+    b: &Polygon,
+    pred: Option<&dyn Fn(Vec3, Vec3) -> bool>,
+    blockers: &[&Polygon],
+    o: &VisOptions,
+) -> f64 {
     let rules = |p: &Polygon| -> Vec<AreaRule> {
         cut_at_blocker_planes(p, blockers)
             .iter()
@@ -41,7 +47,7 @@ pub(super) fn quadrature(a: &Polygon, b: &Polygon, pred: Option<&dyn Fn(Vec3, Ve
             for (x, wx) in ra.points.iter().zip(&ra.weights) {
                 for (y, wy) in rb.points.iter().zip(&rb.weights) {
                     let k = kernel(*x, a.normal(), *y, b.normal());
-                    if k > 0.0 && pred.map_or(true, |p| p(*x, *y)) {
+                    if k > 0.0 && pred.is_none_or(|p| p(*x, *y)) {
                         g += wx * wy * k;
                     }
                 }
@@ -109,7 +115,15 @@ pub(super) fn stratum_seed(seed: u64, key: [u64; 3], s: usize, strata: usize) ->
 
 /// Area-to-area RQMC: 8 independent Owen scramblings of a 4-D Sobol sequence; the spread of
 /// the 8 estimates gives the standard error.
-pub(super) fn montecarlo(a: &Polygon, b: &Polygon, pred: Option<&dyn Fn(Vec3, Vec3) -> bool>, blockers: &[&Polygon], o: &VisOptions, i: usize, j: usize) -> Estimate {
+pub(super) fn montecarlo(
+    a: &Polygon,
+    b: &Polygon,
+    pred: Option<&dyn Fn(Vec3, Vec3) -> bool>,
+    blockers: &[&Polygon],
+    o: &VisOptions,
+    i: usize,
+    j: usize,
+) -> Estimate {
     // strata: the pairs of pieces of the two polygons cut along the blockers' planes (see
     // [`cut_at_blocker_planes`]), each with its share of the samples: behind a partition the
     // hidden part is then a whole stratum, sampled without the visibility step
@@ -136,7 +150,7 @@ pub(super) fn montecarlo(a: &Polygon, b: &Polygon, pred: Option<&dyn Fn(Vec3, Ve
                 let x = sa.sample([u[0], u[1]]);
                 let y = sb.sample([u[2], u[3]]);
                 let kv = kernel(x, a.normal(), y, b.normal());
-                if kv > 0.0 && pred.map_or(true, |p| p(x, y)) {
+                if kv > 0.0 && pred.is_none_or(|p| p(x, y)) {
                     acc += kv;
                 }
             }

@@ -46,7 +46,11 @@ pub(super) fn uniform_point(x: Vec3, n: Vec3, pieces: &[[Vec3; 3]], visible: &dy
         .iter()
         .map(|t| {
             let f = analytic::point_polygon(x, n, t);
-            if f > 0.0 && visible(centroid3(t)) { f } else { 0.0 }
+            if f > 0.0 && visible(centroid3(t)) {
+                f
+            } else {
+                0.0
+            }
         })
         .sum()
 }

@@ -10,7 +10,7 @@
 //! their own pay for visibility: the exact visible region from the point
 //! ([`point_visible_view_factor`]), or the per-point estimator of the method asked for.
 
-use super::{morton_ranks, AnyMethod, AllOptions, Scene, CLUSTER};
+use super::{morton_ranks, AllOptions, AnyMethod, Scene, CLUSTER};
 use crate::analytic;
 use crate::error::{Error, Result};
 use crate::geometry::{tangent_frame, Polygon, Vec3};
@@ -50,11 +50,23 @@ impl Scene {
     /// scene blocks (a receiver never blocks its own view); else Lambert's closed form alone.
     /// Methods: `auto` and `clipping` (exact visible region), the other pair methods with
     /// visibility (their per-point estimators), `analytic`/`contour` only unobstructed.
-    pub fn point_rows(&self, points: &[Vec3], normals: &[Vec3], m: AnyMethod, obstructed: bool, o: &AllOptions, cancel: &AtomicBool) -> Result<PairBlock> {
+    pub fn point_rows(
+        &self,
+        points: &[Vec3],
+        normals: &[Vec3],
+        m: AnyMethod,
+        obstructed: bool,
+        o: &AllOptions,
+        cancel: &AtomicBool,
+    ) -> Result<PairBlock> {
         o.check()?;
         check_points(points, normals)?;
         let vm = match m {
-            AnyMethod::Row(_) => return Err(Error::InvalidArgument("a row method has no point rows; use a pair method (auto, clipping, ...)".into())),
+            AnyMethod::Row(_) => {
+                return Err(Error::InvalidArgument(
+                    "a row method has no point rows; use a pair method (auto, clipping, ...)".into(),
+                ))
+            }
             AnyMethod::Exact(mm) if obstructed => {
                 return Err(Error::InvalidArgument(format!(
                     "method {:?} does not handle obstacles: use auto or clipping, or obstructed=False",
@@ -81,7 +93,9 @@ impl Scene {
         let sampled = matches!(vm, Some(VisMethod::MonteCarlo));
         let hard = |p: Vec3, n: Vec3, j: usize, blockers: &[&Polygon]| -> Result<f64> {
             match vm {
-                Some(VisMethod::Auto | VisMethod::Clipping) | None => Ok(point_visible_view_factor(p, n, &self.polygons[j], blockers)),
+                Some(VisMethod::Auto | VisMethod::Clipping) | None => {
+                    Ok(point_visible_view_factor(p, n, &self.polygons[j], blockers))
+                }
                 Some(vm) => Ok(obstructed::point(ctx.as_ref().unwrap(), p, n, j, vm, &vo)?.value),
             }
         };
@@ -153,7 +167,8 @@ impl Scene {
                 if cancel.load(Ordering::Relaxed) {
                     return Err(Error::Cancelled);
                 }
-                let row = point_row_with(ctx.as_ref(), p, n, &targets, None, &free, &hard, radius + p.distance(centre))?;
+                let row =
+                    point_row_with(ctx.as_ref(), p, n, &targets, None, &free, &hard, radius + p.distance(centre))?;
                 Ok(row.into_iter().map(|(j, f)| (j, f, 0.0)).collect())
             })
             .collect();
@@ -174,7 +189,8 @@ impl Scene {
         let both = sky_polygons(&ctx)?;
         let targets = sky_targets(&both);
         let (centre, radius) = self.extent();
-        let hard = |p: Vec3, n: Vec3, k: usize, blockers: &[&Polygon]| Ok(point_visible_view_factor(p, n, &both[k], blockers));
+        let hard =
+            |p: Vec3, n: Vec3, k: usize, blockers: &[&Polygon]| Ok(point_visible_view_factor(p, n, &both[k], blockers));
         points
             .par_iter()
             .zip(normals)
@@ -201,7 +217,8 @@ impl Scene {
         let both = sky_polygons(&ctx)?;
         let targets = sky_targets(&both);
         let (centre, radius) = self.extent();
-        let hard = |p: Vec3, n: Vec3, k: usize, blockers: &[&Polygon]| Ok(point_visible_view_factor(p, n, &both[k], blockers));
+        let hard =
+            |p: Vec3, n: Vec3, k: usize, blockers: &[&Polygon]| Ok(point_visible_view_factor(p, n, &both[k], blockers));
         rows.par_iter()
             .map(|&i| {
                 if cancel.load(Ordering::Relaxed) {
@@ -212,7 +229,15 @@ impl Scene {
                 let own = ctx.occluders.owner[i];
                 let mut sum = 0.0;
                 for (&p, &w) in rule.points.iter().zip(&rule.weights) {
-                    let row = point_row(Some(&ctx), p, poly.normal(), &targets, Some(own), &hard, radius + p.distance(centre))?;
+                    let row = point_row(
+                        Some(&ctx),
+                        p,
+                        poly.normal(),
+                        &targets,
+                        Some(own),
+                        &hard,
+                        radius + p.distance(centre),
+                    )?;
                     sum += w * sky_from(&row);
                 }
                 Ok((sum / poly.area()).clamp(0.0, 1.0))
@@ -226,8 +251,12 @@ impl Scene {
         if origins.len() != dirs.len() {
             return Err(Error::InvalidArgument(format!("{} origins but {} directions", origins.len(), dirs.len())));
         }
-        if let Some(k) = (0..origins.len()).find(|&k| !origins[k].is_finite() || !dirs[k].is_finite() || dirs[k] == Vec3::ZERO) {
-            return Err(Error::InvalidArgument(format!("ray {k}: origin and direction must be finite, direction nonzero")));
+        if let Some(k) =
+            (0..origins.len()).find(|&k| !origins[k].is_finite() || !dirs[k].is_finite() || dirs[k] == Vec3::ZERO)
+        {
+            return Err(Error::InvalidArgument(format!(
+                "ray {k}: origin and direction must be finite, direction nonzero"
+            )));
         }
         if self.polygons.is_empty() {
             return Ok(vec![false; origins.len()]);
@@ -292,7 +321,10 @@ fn check_points(points: &[Vec3], normals: &[Vec3]) -> Result<()> {
             return Err(Error::InvalidArgument(format!("point {k}: point and normal must be finite")));
         }
         if (n.length() - 1.0).abs() > 1e-6 {
-            return Err(Error::InvalidArgument(format!("point {k}: the normal must be a unit vector (length {})", n.length())));
+            return Err(Error::InvalidArgument(format!(
+                "point {k}: the normal must be a unit vector (length {})",
+                n.length()
+            )));
         }
     }
     Ok(())
@@ -402,7 +434,15 @@ fn sky_targets(both: &[Polygon]) -> Targets<'_> {
 /// (target id, F) from the point p (unit normal n) to every target it sees, sorted by id.
 /// `skip`: an occluder that blocks nothing for this point (the patch it lies on). `scale`
 /// sets the size of the tiny triangle standing for p in shaft queries.
-fn point_row(ctx: Option<&Context>, p: Vec3, n: Vec3, t: &Targets, skip: Option<u32>, hard: &Hard, scale: f64) -> Result<Vec<(u32, f64)>> {
+fn point_row(
+    ctx: Option<&Context>,
+    p: Vec3,
+    n: Vec3,
+    t: &Targets,
+    skip: Option<u32>,
+    hard: &Hard,
+    scale: f64,
+) -> Result<Vec<(u32, f64)>> {
     point_row_with(ctx, p, n, t, skip, &|p, n, b| analytic::point_polygon(p, n, b.vertices()), hard, scale)
 }
 
@@ -488,7 +528,11 @@ fn point_row_with(
                 continue;
             }
             let blockers: Vec<&Polygon> = cand.iter().map(|&c| &ctx.occluders.polygons[c as usize]).collect();
-            f[q as usize] = if blockers.iter().any(|bl| hides_whole(&[p], b.vertices(), bl)) { 0.0 } else { hard(p, n, k, &blockers)? };
+            f[q as usize] = if blockers.iter().any(|bl| hides_whole(&[p], b.vertices(), bl)) {
+                0.0
+            } else {
+                hard(p, n, k, &blockers)?
+            };
         }
     }
     let mut row: Vec<(u32, f64)> = free.iter().zip(&f).filter(|(_, &v)| v != 0.0).map(|(e, &v)| (e.0, v)).collect();
@@ -525,11 +569,14 @@ mod tests {
             }
         }
         let o = AllOptions::default();
-        let b = scene.point_rows(&pts, &nrm, AnyMethod::Visible(VisMethod::Auto), true, &o, &AtomicBool::new(false)).unwrap();
+        let b = scene
+            .point_rows(&pts, &nrm, AnyMethod::Visible(VisMethod::Auto), true, &o, &AtomicBool::new(false))
+            .unwrap();
         let mut hidden = 0;
         for (k, (&p, &nv)) in pts.iter().zip(&nrm).enumerate() {
             let (lo, hi) = (b.indptr[k] as usize, b.indptr[k + 1] as usize);
-            let row: std::collections::HashMap<i32, f64> = b.cols[lo..hi].iter().copied().zip(b.g[lo..hi].iter().copied()).collect();
+            let row: std::collections::HashMap<i32, f64> =
+                b.cols[lo..hi].iter().copied().zip(b.g[lo..hi].iter().copied()).collect();
             let sum: f64 = b.g[lo..hi].iter().sum();
             assert!((sum - 1.0).abs() < 1e-12, "point {k}: row sum {sum}");
             for j in 0..n {

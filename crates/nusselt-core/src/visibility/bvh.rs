@@ -143,7 +143,14 @@ impl Bvh {
         if tris.len() > u32::MAX as usize {
             return Err(Error::InvalidArgument(format!("too many triangles for the BVH: {}", tris.len())));
         }
-        let mut bvh = Bvh { nodes: Vec::with_capacity(2 * tris.len() / LEAF_MAX + 1), tris, normals, max_abs, poly_start, poly_tris: Vec::new() };
+        let mut bvh = Bvh {
+            nodes: Vec::with_capacity(2 * tris.len() / LEAF_MAX + 1),
+            tris,
+            normals,
+            max_abs,
+            poly_start,
+            poly_tris: Vec::new(),
+        };
         if !bvh.tris.is_empty() {
             let boxes: Vec<Aabb> = bvh.tris.iter().map(tri_box).collect();
             let cents: Vec<Vec3> = boxes.iter().map(|b| 0.5 * (b.lo + b.hi)).collect();
@@ -234,7 +241,13 @@ fn build(nodes: &mut Vec<Node>, boxes: &[Aabb], cents: &[Vec3], order: &mut [u32
         return;
     }
     let ext = cb.hi - cb.lo;
-    let axis = if ext.x >= ext.y && ext.x >= ext.z { 0 } else if ext.y >= ext.z { 1 } else { 2 };
+    let axis = if ext.x >= ext.y && ext.x >= ext.z {
+        0
+    } else if ext.y >= ext.z {
+        1
+    } else {
+        2
+    };
     let mid = if ext[axis] <= 0.0 {
         // All centroids coincide: split in the middle of the list.
         order.len() / 2
@@ -322,7 +335,13 @@ impl Ray {
     fn new(o: Vec3, d: Vec3) -> Ray {
         let inv = Vec3::ONE / d;
         let a = d.abs();
-        let kz = if a.x >= a.y && a.x >= a.z { 0 } else if a.y >= a.z { 1 } else { 2 };
+        let kz = if a.x >= a.y && a.x >= a.z {
+            0
+        } else if a.y >= a.z {
+            1
+        } else {
+            2
+        };
         let mut kx = (kz + 1) % 3;
         let mut ky = (kx + 1) % 3;
         if d[kz] < 0.0 {
@@ -464,7 +483,15 @@ impl Visibility for Bvh {
 
     /// The polygons meeting the hull of a and the box (the shaft of [`Shaft::toward_box`],
     /// tested like [`Visibility::candidates_between`]'s).
-    fn candidates_toward_box(&self, a: &Polygon, lo: Vec3, hi: Vec3, ignore: &[u32], among: Option<&[u32]>, out: &mut Vec<u32>) {
+    fn candidates_toward_box(
+        &self,
+        a: &Polygon,
+        lo: Vec3,
+        hi: Vec3,
+        ignore: &[u32],
+        among: Option<&[u32]>,
+        out: &mut Vec<u32>,
+    ) {
         out.clear();
         let shaft = || Shaft::toward_box(a, lo, hi, self.max_abs);
         match among {
@@ -603,7 +630,8 @@ impl Shaft {
                 b[6] = [1.0; 4];
                 for (k, &(n, d, t)) in c.iter().enumerate() {
                     let a = n.abs();
-                    (b[0][k], b[1][k], b[2][k], b[3][k], b[4][k], b[5][k], b[6][k]) = (n.x, n.y, n.z, a.x, a.y, a.z, d - t);
+                    (b[0][k], b[1][k], b[2][k], b[3][k], b[4][k], b[5][k], b[6][k]) =
+                        (n.x, n.y, n.z, a.x, a.y, a.z, d - t);
                 }
                 b
             })
@@ -614,7 +642,12 @@ impl Shaft {
     /// False only if the box lies outside the hull's box or outside one supporting plane.
     #[inline]
     fn may_meet_box(&self, lo: Vec3, hi: Vec3) -> bool {
-        if lo.x > self.hi.x || lo.y > self.hi.y || lo.z > self.hi.z || hi.x < self.lo.x || hi.y < self.lo.y || hi.z < self.lo.z
+        if lo.x > self.hi.x
+            || lo.y > self.hi.y
+            || lo.z > self.hi.z
+            || hi.x < self.lo.x
+            || hi.y < self.lo.y
+            || hi.z < self.lo.z
         {
             return false;
         }
@@ -624,7 +657,8 @@ impl Shaft {
         self.blocks.iter().all(|b| {
             let mut inside = true;
             for k in 0..4 {
-                let near = b[0][k] * c.x + b[1][k] * c.y + b[2][k] * c.z - (b[3][k] * h.x + b[4][k] * h.y + b[5][k] * h.z);
+                let near =
+                    b[0][k] * c.x + b[1][k] * c.y + b[2][k] * c.z - (b[3][k] * h.x + b[4][k] * h.y + b[5][k] * h.z);
                 inside &= near < b[6][k];
             }
             inside
@@ -635,7 +669,12 @@ impl Shaft {
     pub(crate) fn may_meet_triangle(&self, v: &[Vec3; 3], normal: Vec3) -> bool {
         let lo = v[0].min(v[1]).min(v[2]);
         let hi = v[0].max(v[1]).max(v[2]);
-        if lo.x > self.hi.x || lo.y > self.hi.y || lo.z > self.hi.z || hi.x < self.lo.x || hi.y < self.lo.y || hi.z < self.lo.z
+        if lo.x > self.hi.x
+            || lo.y > self.hi.y
+            || lo.z > self.hi.z
+            || hi.x < self.lo.x
+            || hi.y < self.lo.y
+            || hi.z < self.lo.z
         {
             return false;
         }
@@ -668,7 +707,15 @@ impl Shaft {
 /// itself lies along -m1 (angle pi). Angles are measured relative to that direction in
 /// (-pi, pi]; if all of them fit within a half-turn, the two end directions span supporting
 /// planes of the hull. Points on the edge line itself carry no direction and are skipped.
-fn edge_planes(e0: Vec3, e1: Vec3, n: Vec3, points: &[Vec3], tol: f64, max_abs: f64, planes: &mut Vec<(Vec3, f64, f64)>) {
+fn edge_planes(
+    e0: Vec3,
+    e1: Vec3,
+    n: Vec3,
+    points: &[Vec3],
+    tol: f64,
+    max_abs: f64,
+    planes: &mut Vec<(Vec3, f64, f64)>,
+) {
     let edge = e1 - e0;
     let len = edge.length();
     if !(len > 0.0) {
@@ -682,7 +729,11 @@ fn edge_planes(e0: Vec3, e1: Vec3, n: Vec3, points: &[Vec3], tol: f64, max_abs: 
     // pseudo-angle that grows monotonically with the angle in (-pi, pi] (no atan2 per point).
     let pseudo = |u: f64, v: f64| {
         let d = 1.0 - u / (u.abs() + v.abs());
-        if v >= 0.0 { d } else { -d }
+        if v >= 0.0 {
+            d
+        } else {
+            -d
+        }
     };
     let (mut lo, mut hi) = (0.0f64, 0.0f64);
     let (mut uv_lo, mut uv_hi) = ((1.0, 0.0), (1.0, 0.0));

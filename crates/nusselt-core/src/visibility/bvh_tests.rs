@@ -293,10 +293,8 @@ fn occluded_is_scale_invariant() {
         })
         .collect();
     let answers = |s: f64| -> Vec<bool> {
-        let polys: Vec<Polygon> = base
-            .iter()
-            .map(|p| Polygon::new(p.vertices().iter().map(|v| v * s).collect()).unwrap())
-            .collect();
+        let polys: Vec<Polygon> =
+            base.iter().map(|p| Polygon::new(p.vertices().iter().map(|v| v * s).collect()).unwrap()).collect();
         let bvh = Bvh::new(&polys).unwrap();
         pairs.iter().map(|(a, b)| bvh.occluded(a * s, b * s, &[])).collect()
     };
@@ -321,11 +319,11 @@ fn shaft_between_plates_hand_built() {
         a.clone(),
         b.clone(),
         rect(2, 0.5, (0.25, 0.75), (0.25, 0.75), true), // 2: blocker in the middle
-        rect(2, 0.5, (2.0, 3.0), (0.0, 1.0), true),      // 3: far to the side
-        rect(2, 0.0, (1.0, 2.0), (0.0, 1.0), true),      // 4: a's coplanar neighbour
-        rect(0, 1.0, (0.0, 1.0), (0.0, 1.0), false),     // 5: wall x = 1 touching both edges
-        rect(2, 1.5, (0.0, 1.0), (0.0, 1.0), true),      // 6: behind b
-        rect(0, 0.5, (0.0, 1.0), (0.2, 0.3), true),      // 7: vertical strip inside the shaft
+        rect(2, 0.5, (2.0, 3.0), (0.0, 1.0), true),     // 3: far to the side
+        rect(2, 0.0, (1.0, 2.0), (0.0, 1.0), true),     // 4: a's coplanar neighbour
+        rect(0, 1.0, (0.0, 1.0), (0.0, 1.0), false),    // 5: wall x = 1 touching both edges
+        rect(2, 1.5, (0.0, 1.0), (0.0, 1.0), true),     // 6: behind b
+        rect(0, 0.5, (0.0, 1.0), (0.2, 0.3), true),     // 7: vertical strip inside the shaft
         // 8: tilted quad beside the shaft whose box overlaps it: only a plane test rejects it
         poly(&[[1.05, -0.5, 0.0], [1.05, 1.5, 0.0], [1.8, 1.5, 1.0], [1.8, -0.5, 1.0]]),
         // 9: small triangle just outside the side face x = 0 (touching it with a vertex)
@@ -400,9 +398,8 @@ fn shaft_never_drops_a_real_blocker() {
         bvh.candidates_between(&a, &b, &[0, 1], &mut cand);
         let pa = crate::sampling::PolygonSampler::new(&a);
         let pb = crate::sampling::PolygonSampler::new(&b);
-        let segs: Vec<(Vec3, Vec3)> = (0..400)
-            .map(|_| (pa.sample([rng.f(), rng.f()]), pb.sample([rng.f(), rng.f()])))
-            .collect();
+        let segs: Vec<(Vec3, Vec3)> =
+            (0..400).map(|_| (pa.sample([rng.f(), rng.f()]), pb.sample([rng.f(), rng.f()]))).collect();
         for (k, p) in polys.iter().enumerate().skip(2) {
             let blocks = segs.iter().any(|(x, y)| segment_crosses(p, *x, *y));
             if blocks {
@@ -451,7 +448,13 @@ fn bench_rays() {
     let t = Instant::now();
     let bvh = Bvh::new(&polys).unwrap();
     let build = t.elapsed().as_secs_f64();
-    println!("{} polygons, {} triangles, {} nodes, build {:.3} s", polys.len(), bvh.triangle_count(), bvh.nodes.len(), build);
+    println!(
+        "{} polygons, {} triangles, {} nodes, build {:.3} s",
+        polys.len(),
+        bvh.triangle_count(),
+        bvh.nodes.len(),
+        build
+    );
     // Rays from random floor points, cosine-distributed directions.
     let n = 1_000_000usize;
     let mut rng = Rng::new(1);
@@ -462,7 +465,12 @@ fn bench_rays() {
         })
         .collect();
     let segs: Vec<(Vec3, Vec3)> = (0..n)
-        .map(|_| (Vec3::new(rng.range(0.0, 4.0), rng.range(0.0, 5.0), 0.0), Vec3::new(rng.range(0.0, 4.0), rng.range(0.0, 5.0), 3.0)))
+        .map(|_| {
+            (
+                Vec3::new(rng.range(0.0, 4.0), rng.range(0.0, 5.0), 0.0),
+                Vec3::new(rng.range(0.0, 4.0), rng.range(0.0, 5.0), 3.0),
+            )
+        })
         .collect();
     let t = Instant::now();
     let hits = rays.iter().filter(|(o, d)| bvh.first_hit(*o, *d, 1e-9, f64::INFINITY, &[]).is_some()).count();
@@ -473,11 +481,16 @@ fn bench_rays() {
     let t = Instant::now();
     let hits2 = rays.par_iter().filter(|(o, d)| bvh.first_hit(*o, *d, 1e-9, f64::INFINITY, &[]).is_some()).count();
     let fh_par = n as f64 / t.elapsed().as_secs_f64();
-    println!("first_hit: {:.2} Mrays/s (1 thread), {:.2} Mrays/s ({} threads); hits {hits}", fh / 1e6, fh_par / 1e6, rayon::current_num_threads());
+    println!(
+        "first_hit: {:.2} Mrays/s (1 thread), {:.2} Mrays/s ({} threads); hits {hits}",
+        fh / 1e6,
+        fh_par / 1e6,
+        rayon::current_num_threads()
+    );
     println!("occluded:  {:.2} Mrays/s (1 thread), blocked {blocked}", oc / 1e6);
     assert_eq!(hits, hits2);
     assert_eq!(hits, n); // closed room: every ray hits something
-    // Shaft culling cost for pairs of floor and ceiling patches.
+                         // Shaft culling cost for pairs of floor and ceiling patches.
     let k = 120 * 120;
     let t = Instant::now();
     let mut out = Vec::new();
@@ -520,7 +533,15 @@ fn box_shafts_keep_every_real_blocker_and_narrow_like_the_pair_shaft() {
         for k in 0..4 {
             let c = c0 + Vec3::new(0.3 * (k % 2) as f64, 0.3 * (k / 2) as f64, 0.1 * rng.f());
             let s = 0.12;
-            polys.push(Polygon::new(vec![c + Vec3::new(-s, s, 0.), c + Vec3::new(s, s, 0.), c + Vec3::new(s, -s, 0.), c + Vec3::new(-s, -s, 0.)]).unwrap());
+            polys.push(
+                Polygon::new(vec![
+                    c + Vec3::new(-s, s, 0.),
+                    c + Vec3::new(s, s, 0.),
+                    c + Vec3::new(s, -s, 0.),
+                    c + Vec3::new(-s, -s, 0.),
+                ])
+                .unwrap(),
+            );
         }
         for _ in 0..40 {
             let c = Vec3::new(rng.range(-1.5, 1.5), rng.range(-1.5, 1.5), rng.range(-0.3, 2.3));
@@ -556,7 +577,8 @@ fn box_shafts_keep_every_real_blocker_and_narrow_like_the_pair_shaft() {
             assert!(among.iter().all(|k| cand.contains(k)), "case {case} pair {j}: {among:?} not in {cand:?}");
             narrowed += cand.len() - among.len();
             let pb = crate::sampling::PolygonSampler::new(b);
-            let segs: Vec<(Vec3, Vec3)> = (0..300).map(|_| (pa.sample([rng.f(), rng.f()]), pb.sample([rng.f(), rng.f()]))).collect();
+            let segs: Vec<(Vec3, Vec3)> =
+                (0..300).map(|_| (pa.sample([rng.f(), rng.f()]), pb.sample([rng.f(), rng.f()]))).collect();
             for (k, p) in polys.iter().enumerate().skip(1) {
                 if k != j && segs.iter().any(|(x, y)| segment_crosses(p, *x, *y)) {
                     real += 1;

@@ -30,7 +30,15 @@ pub trait Visibility: Sync {
     /// query serves a whole cluster of receivers of a row; where it is empty, none of them
     /// needs a query of its own. With `among` (sorted ids, a superset of the answer, e.g. the
     /// answer for a bigger box), only those polygons are tested.
-    fn candidates_toward_box(&self, a: &Polygon, lo: Vec3, hi: Vec3, ignore: &[u32], among: Option<&[u32]>, out: &mut Vec<u32>);
+    fn candidates_toward_box(
+        &self,
+        a: &Polygon,
+        lo: Vec3,
+        hi: Vec3,
+        ignore: &[u32],
+        among: Option<&[u32]>,
+        out: &mut Vec<u32>,
+    );
 
     /// [`Visibility::candidates_between`] for a pair whose blockers are known to lie in the
     /// sorted id list `among` (from [`Visibility::candidates_toward_box`]), without searching

@@ -52,21 +52,25 @@ impl Occluders {
             h.iter().all(|v| ng.dot(*v - g[0]).abs() <= tol) && g.iter().all(|v| nh.dot(*v - h[0]).abs() <= tol)
         };
         // union-find parent of each group; a group is alive while it is its own root
-        let parent = join_adjacent(&mut outline, |a: Vec3| a.to_array().map(f64::to_bits), |g, h, v, w| {
-            let ng = normal[g];
-            if !coplanar(v, ng, w, normal[h]) {
-                return None;
-            }
-            let turn = |p: Vec3, q: Vec3, r: Vec3| {
-                let (e, f) = (q - p, r - q);
-                (e.cross(f).dot(ng), e.dot(f), e.length() * f.length())
-            };
-            let u = join_convex(v, w, turn, STRAIGHT_TOL)?;
-            // the union must be a valid polygon in its own right
-            joined_poly[g] = Some(Polygon::with_tolerance(u.clone(), 1e-9).ok()?);
-            joined_poly[h] = None;
-            Some(u)
-        });
+        let parent = join_adjacent(
+            &mut outline,
+            |a: Vec3| a.to_array().map(f64::to_bits),
+            |g, h, v, w| {
+                let ng = normal[g];
+                if !coplanar(v, ng, w, normal[h]) {
+                    return None;
+                }
+                let turn = |p: Vec3, q: Vec3, r: Vec3| {
+                    let (e, f) = (q - p, r - q);
+                    (e.cross(f).dot(ng), e.dot(f), e.length() * f.length())
+                };
+                let u = join_convex(v, w, turn, STRAIGHT_TOL)?;
+                // the union must be a valid polygon in its own right
+                joined_poly[g] = Some(Polygon::with_tolerance(u.clone(), 1e-9).ok()?);
+                joined_poly[h] = None;
+                Some(u)
+            },
+        );
         let root = |mut g: usize| {
             while parent[g] != g {
                 g = parent[g];
@@ -95,7 +99,8 @@ mod tests {
     use super::*;
 
     fn quad(x0: f64, y0: f64, x1: f64, y1: f64, z: f64) -> Polygon {
-        Polygon::new(vec![Vec3::new(x0, y0, z), Vec3::new(x1, y0, z), Vec3::new(x1, y1, z), Vec3::new(x0, y1, z)]).unwrap()
+        Polygon::new(vec![Vec3::new(x0, y0, z), Vec3::new(x1, y0, z), Vec3::new(x1, y1, z), Vec3::new(x0, y1, z)])
+            .unwrap()
     }
 
     /// n x n unit tiles of [0, n]^2 at height z, facing +z.
@@ -128,7 +133,12 @@ mod tests {
         let mut polys = Vec::new();
         for i in 0..4 {
             for j in 0..3 {
-                let (a, b, c, d) = (map(i as f64, j as f64), map(i as f64 + 1.0, j as f64), map(i as f64 + 1.0, j as f64 + 1.0), map(i as f64, j as f64 + 1.0));
+                let (a, b, c, d) = (
+                    map(i as f64, j as f64),
+                    map(i as f64 + 1.0, j as f64),
+                    map(i as f64 + 1.0, j as f64 + 1.0),
+                    map(i as f64, j as f64 + 1.0),
+                );
                 polys.push(Polygon::new(vec![a, b, c]).unwrap());
                 polys.push(Polygon::new(vec![a, c, d]).unwrap());
             }
@@ -146,7 +156,12 @@ mod tests {
             assert!(occ.normal().dot(c - v[0]).abs() < 1e-9);
             for e in 0..v.len() {
                 let (a, b) = (v[e], v[(e + 1) % v.len()]);
-                assert!((b - a).cross(c - a).dot(occ.normal()) > 0.0, "{:?} {:?}", v.iter().map(|x| rot.inverse() * (*x - Vec3::new(1e3, -2e3, 5e2))).collect::<Vec<_>>(), rot.inverse() * (c - Vec3::new(1e3, -2e3, 5e2)));
+                assert!(
+                    (b - a).cross(c - a).dot(occ.normal()) > 0.0,
+                    "{:?} {:?}",
+                    v.iter().map(|x| rot.inverse() * (*x - Vec3::new(1e3, -2e3, 5e2))).collect::<Vec<_>>(),
+                    rot.inverse() * (c - Vec3::new(1e3, -2e3, 5e2))
+                );
             }
         }
     }
@@ -160,7 +175,13 @@ mod tests {
         let areas: f64 = o.polygons.iter().map(Polygon::area).sum();
         assert!((areas - 3.0).abs() < 1e-12);
         // neighbours at a kink (a fold of 1e-6) stay apart
-        let bent = Polygon::new(vec![Vec3::new(1.0, 0.0, 0.0), Vec3::new(2.0, 0.0, 1e-6), Vec3::new(2.0, 1.0, 1e-6), Vec3::new(1.0, 1.0, 0.0)]).unwrap();
+        let bent = Polygon::new(vec![
+            Vec3::new(1.0, 0.0, 0.0),
+            Vec3::new(2.0, 0.0, 1e-6),
+            Vec3::new(2.0, 1.0, 1e-6),
+            Vec3::new(1.0, 1.0, 0.0),
+        ])
+        .unwrap();
         assert_eq!(Occluders::new(&[quad(0.0, 0.0, 1.0, 1.0, 0.0), bent]).polygons.len(), 2);
         // the same square seen from behind shares the edge in the same direction: no join
         let back = Polygon::new(quad(1.0, 0.0, 2.0, 1.0, 0.0).vertices().iter().rev().copied().collect()).unwrap();

@@ -12,11 +12,11 @@
 //! face the wrong way; docs/algorithms.md §8). Every tolerance is relative to the geometry.
 
 use crate::geometry::{clip_to_halfspace, join_adjacent, newell_normal, tangent_frame, Polygon, Vec3};
-use std::borrow::Cow;
-use std::cell::RefCell;
 use i_overlay::core::fill_rule::FillRule;
 use i_overlay::core::overlay_rule::OverlayRule;
 use i_overlay::float::single::SingleFloatOverlay;
+use std::borrow::Cow;
+use std::cell::RefCell;
 
 /// Blocker points closer to p's height above the receiver than this fraction are cut off, so
 /// the central projection stays bounded (they could hide only a cone of that relative width
@@ -210,7 +210,12 @@ fn difference(cast: &Cast) -> Vec<Vec<Vec3>> {
     let mut tmp = Vec::new();
     for s in &cast.shadows {
         let mut c = s.clone();
-        for (u, w) in [([lo[0], lo[1]], [hi[0], lo[1]]), ([hi[0], lo[1]], [hi[0], hi[1]]), ([hi[0], hi[1]], [lo[0], hi[1]]), ([lo[0], hi[1]], [lo[0], lo[1]])] {
+        for (u, w) in [
+            ([lo[0], lo[1]], [hi[0], lo[1]]),
+            ([hi[0], lo[1]], [hi[0], hi[1]]),
+            ([hi[0], hi[1]], [lo[0], hi[1]]),
+            ([lo[0], hi[1]], [lo[0], lo[1]]),
+        ] {
             clip_2d(&c, u, w, true, &mut tmp);
             std::mem::swap(&mut c, &mut tmp);
         }
@@ -373,7 +378,13 @@ const MERGE_FROM: usize = 32;
 fn merge_adjacent(shadows: &mut Vec<Cow<'_, [[f64; 2]]>>) {
     let mut outline: Vec<Vec<[f64; 2]>> = shadows.iter().map(|s| s.to_vec()).collect();
     let group = join_adjacent(&mut outline, |p: [f64; 2]| p.map(f64::to_bits), |_, _, s, t| join(s, t));
-    *shadows = outline.into_iter().zip(group).enumerate().filter(|(k, (_, g))| g == k).map(|(_, (o, _))| Cow::Owned(o)).collect();
+    *shadows = outline
+        .into_iter()
+        .zip(group)
+        .enumerate()
+        .filter(|(k, (_, g))| g == k)
+        .map(|(_, (o, _))| Cow::Owned(o))
+        .collect();
 }
 
 /// The union of the convex counter-clockwise polygons s and t if they share an edge and the
@@ -389,7 +400,14 @@ fn join(s: &[[f64; 2]], t: &[[f64; 2]]) -> Option<Vec<[f64; 2]>> {
 /// Appends to `out` the convex pieces of q \ t (q and t convex, counter-clockwise): for each
 /// edge of t in turn, the part of what is left outside it, then the rest is cut to its inside.
 /// `a`, `b`, `c`: scratch.
-fn subtract_convex(q: &[[f64; 2]], t: &[[f64; 2]], out: &mut Pieces, a: &mut Vec<[f64; 2]>, b: &mut Vec<[f64; 2]>, c: &mut Vec<[f64; 2]>) -> bool {
+fn subtract_convex(
+    q: &[[f64; 2]],
+    t: &[[f64; 2]],
+    out: &mut Pieces,
+    a: &mut Vec<[f64; 2]>,
+    b: &mut Vec<[f64; 2]>,
+    c: &mut Vec<[f64; 2]>,
+) -> bool {
     // Separated by one of t's edges (the usual case for neighbouring shadows): q is untouched.
     let m = t.len();
     for e in 0..m {
@@ -555,7 +573,8 @@ pub fn hides_whole(source: &[Vec3], target: &[Vec3], blocker: &Polygon) -> bool 
     let height = |x: &Vec3| n.dot(*x - v[0]);
     let side = height(&source[0]);
     let strictly = |x: &Vec3, s: f64| height(x) * s.signum() > margin;
-    if !(side.abs() > margin) || !source.iter().all(|x| strictly(x, side)) || !target.iter().all(|y| strictly(y, -side)) {
+    if !(side.abs() > margin) || !source.iter().all(|x| strictly(x, side)) || !target.iter().all(|y| strictly(y, -side))
+    {
         return false;
     }
     source.iter().all(|&x| {
@@ -625,7 +644,6 @@ fn shadowed_boolean(p: Vec3, n: Vec3, cast: &Cast) -> f64 {
     let lit: f64 = difference(cast).iter().map(|c| crate::analytic::point_contour(p, n, c)).sum();
     (crate::analytic::point_contour(p, n, &cast.rec) - lit).max(0.0)
 }
-
 
 /// Shoelace area of a 2-D contour (positive counter-clockwise).
 fn signed_area(v: &[[f64; 2]]) -> f64 {

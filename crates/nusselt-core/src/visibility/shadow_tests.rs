@@ -160,7 +160,8 @@ fn concave_blocker_and_receiver() {
     let p = Vec3::new(0.0, 0.0, 1.0);
     // blocker: L of the square [0, 0.5]^2 minus [0.25, 0.5]^2, at z = 0.5 -> shadow
     // [0, 1]^2 minus [0.5, 1]^2, area 0.75, all inside the receiver
-    let b = poly(&[[0., 0., 0.5], [0.5, 0., 0.5], [0.5, 0.25, 0.5], [0.25, 0.25, 0.5], [0.25, 0.5, 0.5], [0., 0.5, 0.5]]);
+    let b =
+        poly(&[[0., 0., 0.5], [0.5, 0., 0.5], [0.5, 0.25, 0.5], [0.25, 0.25, 0.5], [0.25, 0.5, 0.5], [0., 0.5, 0.5]]);
     let a = visible_area(p, DOWN, &rec, &[&b]);
     assert!((a - (3.0 - 0.75)).abs() < 1e-14, "{a}");
 }
@@ -174,7 +175,9 @@ fn scale_and_translation_invariance() {
     let base = visible_area(P, DOWN, &f, &[&b1, &wall, &tilted]);
     assert!(base > 0.1 && base < 0.9);
     let tr = |p: &Polygon, s: f64, o: Vec3| Polygon::new(p.vertices().iter().map(|v| v * s + o).collect()).unwrap();
-    for (s, o) in [(1e-3, Vec3::ZERO), (1e3, Vec3::ZERO), (1.0, Vec3::new(1e3, -2e3, 5e2)), (1e-3, Vec3::new(7.0, 3.0, -1.0))] {
+    for (s, o) in
+        [(1e-3, Vec3::ZERO), (1e3, Vec3::ZERO), (1.0, Vec3::new(1e3, -2e3, 5e2)), (1e-3, Vec3::new(7.0, 3.0, -1.0))]
+    {
         let a = visible_area(P * s + o, DOWN, &tr(&f, s, o), &[&tr(&b1, s, o), &tr(&wall, s, o), &tr(&tilted, s, o)]);
         let rel = (a / (s * s) - base).abs() / base;
         let lim = if o == Vec3::ZERO { 1e-12 } else { 1e-9 }; // translation costs digits of o/s
@@ -193,7 +196,8 @@ fn random_blockers_match_point_sampling() {
         let p = Vec3::new(rng.range(0.2, 0.8), rng.range(0.2, 0.8), rng.range(0.6, 1.2));
         let n = (DOWN + 0.4 * rng.unit()).normalize();
         // regular polygons tilted up to ~35 degrees from horizontal, facing either way
-        let blockers: Vec<Polygon> = (0..6).map(|_| random_blocker(&mut rng, p, (0.0, 1.0), (0.05, 0.2), 0.7, 3)).collect();
+        let blockers: Vec<Polygon> =
+            (0..6).map(|_| random_blocker(&mut rng, p, (0.0, 1.0), (0.05, 0.2), 0.7, 3)).collect();
         let refs: Vec<&Polygon> = blockers.iter().collect();
         let got = visible_area(p, n, &rec, &refs);
         // Midpoint grid over the receiver's bounding box, kept where inside the receiver.
@@ -202,7 +206,8 @@ fn random_blockers_match_point_sampling() {
         let cell = 1.3 * 1.1 / (k * k) as f64;
         for i in 0..k {
             for j in 0..k {
-                let x = Vec3::new(-0.05 + 1.3 * (i as f64 + 0.5) / k as f64, -0.1 + 1.1 * (j as f64 + 0.5) / k as f64, 0.0);
+                let x =
+                    Vec3::new(-0.05 + 1.3 * (i as f64 + 0.5) / k as f64, -0.1 + 1.1 * (j as f64 + 0.5) / k as f64, 0.0);
                 if ray_polygon(&rec, x + Vec3::Z, -Vec3::Z).is_none() || n.dot(x - p) < 0.0 {
                     continue;
                 }
@@ -329,7 +334,15 @@ fn bench_visible() {
     println!("point_visible_view_factor, 3 blockers: {:.1} us/call (mean F {:.4})", dt * 1e6, acc / n as f64);
     // a blocker meshed into 20 x 20 tiles
     let tiles: Vec<Polygon> = (0..400)
-        .map(|k| rect(2, 0.5, (0.2 + 0.02 * (k % 20) as f64, 0.22 + 0.02 * (k % 20) as f64), (0.2 + 0.02 * (k / 20) as f64, 0.22 + 0.02 * (k / 20) as f64), true))
+        .map(|k| {
+            rect(
+                2,
+                0.5,
+                (0.2 + 0.02 * (k % 20) as f64, 0.22 + 0.02 * (k % 20) as f64),
+                (0.2 + 0.02 * (k / 20) as f64, 0.22 + 0.02 * (k / 20) as f64),
+                true,
+            )
+        })
         .collect();
     let refs: Vec<&Polygon> = tiles.iter().collect();
     let t = std::time::Instant::now();
@@ -338,7 +351,11 @@ fn bench_visible() {
         let p = Vec3::new(0.3 + 0.4 * (i as f64 / (n / 20) as f64), 0.5, 1.0);
         acc += point_visible_view_factor(p, DOWN, &f, &refs);
     }
-    println!("20 x 20 tiles: {:.1} us/call (mean F {:.4})", t.elapsed().as_secs_f64() / (n / 20) as f64 * 1e6, acc / (n / 20) as f64);
+    println!(
+        "20 x 20 tiles: {:.1} us/call (mean F {:.4})",
+        t.elapsed().as_secs_f64() / (n / 20) as f64 * 1e6,
+        acc / (n / 20) as f64
+    );
     let t = std::time::Instant::now();
     let mut free = 0.0;
     for i in 0..n {
@@ -413,7 +430,8 @@ fn random_case(rng: &mut Rng, tiles: bool) -> (Vec3, Vec3, Vec<Polygon>) {
 #[test]
 fn convex_path_matches_the_boolean() {
     let mut rng = Rng::new(2024);
-    let recs = [floor(), poly(&[[0., 0., 0.], [1.0, -0.1, 0.], [1.2, 0.9, 0.], [0.1, 1.0, 0.]]), ngon(0.6, 0.0, 7, true)];
+    let recs =
+        [floor(), poly(&[[0., 0., 0.], [1.0, -0.1, 0.], [1.2, 0.9, 0.], [0.1, 1.0, 0.]]), ngon(0.6, 0.0, 7, true)];
     let (mut convex, mut shadowed) = (0, 0);
     for case in 0..3000 {
         let rec = &recs[case % recs.len()];
@@ -445,14 +463,17 @@ fn convex_path_special_cases() {
     assert!((hid - f_plain(P, DOWN, &f)).abs() < 1e-15);
     // the same cover as 3 x 3 edge-adjacent tiles and a duplicate on top: no double counting
     let tiles: Vec<Polygon> = (0..9)
-        .map(|k| rect(2, 0.5, (-1.0 + (k % 3) as f64, (k % 3) as f64), (-1.0 + (k / 3) as f64, (k / 3) as f64), k % 2 == 0))
+        .map(|k| {
+            rect(2, 0.5, (-1.0 + (k % 3) as f64, (k % 3) as f64), (-1.0 + (k / 3) as f64, (k / 3) as f64), k % 2 == 0)
+        })
         .collect();
     let mut refs: Vec<&Polygon> = tiles.iter().collect();
     refs.push(&big);
     let cast2 = cast(P, DOWN, &f, &refs).unwrap();
     assert!((shadowed_convex(P, DOWN, &cast2).unwrap() - hid).abs() < 1e-14);
     // a concave blocker (L shape) is left to the boolean
-    let l = poly(&[[0.2, 0.2, 0.5], [0.8, 0.2, 0.5], [0.8, 0.4, 0.5], [0.4, 0.4, 0.5], [0.4, 0.8, 0.5], [0.2, 0.8, 0.5]]);
+    let l =
+        poly(&[[0.2, 0.2, 0.5], [0.8, 0.2, 0.5], [0.8, 0.4, 0.5], [0.4, 0.4, 0.5], [0.4, 0.8, 0.5], [0.2, 0.8, 0.5]]);
     let cast3 = cast(P, DOWN, &f, &[&l]).unwrap();
     assert!(shadowed_convex(P, DOWN, &cast3).is_none());
     assert!(point_shadowed_view_factor(P, DOWN, &f, &[&l]) > 0.0);
@@ -475,7 +496,8 @@ fn edge_adjacent_shadows_join_where_the_union_is_convex() {
     assert!(ell.iter().all(|s| is_convex(s)));
     assert_eq!(ell.iter().map(|s| signed_area(s)).sum::<f64>(), 3.0);
     // a shared point or a partly shared edge (T-junction) is no joint
-    let mut apart: Vec<Cow<[[f64; 2]]>> = vec![sq(0.0, 0.0).into(), sq(1.0, 1.0).into(), vec![[1.0, -0.5], [2.0, -0.5], [2.0, 0.5], [1.0, 0.5]].into()];
+    let mut apart: Vec<Cow<[[f64; 2]]>> =
+        vec![sq(0.0, 0.0).into(), sq(1.0, 1.0).into(), vec![[1.0, -0.5], [2.0, -0.5], [2.0, 0.5], [1.0, 0.5]].into()];
     merge_adjacent(&mut apart);
     assert_eq!(apart.len(), 3);
 }
@@ -485,7 +507,15 @@ fn meshed_and_nested_shadows_in_the_convex_path() {
     // shadows of a meshed blocker in the convex path: the same F as the boolean
     let f = floor();
     let tiles: Vec<Polygon> = (0..16)
-        .map(|k| rect(2, 0.5, (0.1 + 0.2 * (k % 4) as f64, 0.3 + 0.2 * (k % 4) as f64), (0.1 + 0.2 * (k / 4) as f64, 0.3 + 0.2 * (k / 4) as f64), k % 3 == 0))
+        .map(|k| {
+            rect(
+                2,
+                0.5,
+                (0.1 + 0.2 * (k % 4) as f64, 0.3 + 0.2 * (k % 4) as f64),
+                (0.1 + 0.2 * (k / 4) as f64, 0.3 + 0.2 * (k / 4) as f64),
+                k % 3 == 0,
+            )
+        })
         .collect();
     let refs: Vec<&Polygon> = tiles.iter().collect();
     let c = cast(P, DOWN, &f, &refs).unwrap();
@@ -493,7 +523,15 @@ fn meshed_and_nested_shadows_in_the_convex_path() {
     assert!((fast - slow).abs() < 1e-14 && slow > 0.1, "{fast} vs {slow}");
     // 6 x 6 tiles: enough shadows to be joined first (MERGE_FROM)
     let fine: Vec<Polygon> = (0..36)
-        .map(|k| rect(2, 0.5, (0.3 + 0.06 * (k % 6) as f64, 0.36 + 0.06 * (k % 6) as f64), (0.3 + 0.06 * (k / 6) as f64, 0.36 + 0.06 * (k / 6) as f64), k % 5 == 0))
+        .map(|k| {
+            rect(
+                2,
+                0.5,
+                (0.3 + 0.06 * (k % 6) as f64, 0.36 + 0.06 * (k % 6) as f64),
+                (0.3 + 0.06 * (k / 6) as f64, 0.36 + 0.06 * (k / 6) as f64),
+                k % 5 == 0,
+            )
+        })
         .collect();
     let refs: Vec<&Polygon> = fine.iter().collect();
     let c = cast(P, DOWN, &f, &refs).unwrap();
@@ -540,10 +578,15 @@ fn hides_whole_only_when_every_segment_is_blocked() {
         let nb = (Vec3::Z + 0.5 * rng.unit()).normalize();
         let (t, u) = crate::geometry::tangent_frame(nb);
         let (m, r, ph) = (3 + (rng.f() * 4.0) as usize, rng.range(0.3, 1.2), rng.f());
-        let b = Polygon::new((0..m).map(|k| {
-            let a = std::f64::consts::TAU * (k as f64 + ph) / m as f64;
-            c + r * (a.cos() * t + a.sin() * u)
-        }).collect()).unwrap();
+        let b = Polygon::new(
+            (0..m)
+                .map(|k| {
+                    let a = std::f64::consts::TAU * (k as f64 + ph) / m as f64;
+                    c + r * (a.cos() * t + a.sin() * u)
+                })
+                .collect(),
+        )
+        .unwrap();
         if !hides_whole(&src, &dst, &b) {
             open += 1;
             continue;
@@ -557,7 +600,10 @@ fn hides_whole_only_when_every_segment_is_blocked() {
                 v[0] + a * (v[1] - v[0]) + c * (v[2] - v[0])
             };
             let (x, y) = (w(&mut rng, &src), w(&mut rng, &dst));
-            assert!(ray_polygon(&b, x, y - x).is_some_and(|t| t > 0.0 && t < 1.0), "case {case}: segment {x} -> {y} passes");
+            assert!(
+                ray_polygon(&b, x, y - x).is_some_and(|t| t > 0.0 && t < 1.0),
+                "case {case}: segment {x} -> {y} passes"
+            );
         }
         let x = src[0] + 0.3 * (src[1] - src[0]) + 0.3 * (src[2] - src[0]);
         let n = (dst_poly.centroid() - x).normalize();
@@ -570,11 +616,21 @@ fn hides_whole_only_when_every_segment_is_blocked() {
 /// the middle through: never "hidden". The same outline's convex hull does hide.
 #[test]
 fn hides_whole_needs_a_convex_blocker() {
-    let u = poly(&[[-2., -2., 1.], [2., -2., 1.], [2., 2., 1.], [0.5, 2., 1.], [0.5, 0., 1.], [-0.5, 0., 1.], [-0.5, 2., 1.], [-2., 2., 1.]]);
+    let u = poly(&[
+        [-2., -2., 1.],
+        [2., -2., 1.],
+        [2., 2., 1.],
+        [0.5, 2., 1.],
+        [0.5, 0., 1.],
+        [-0.5, 0., 1.],
+        [-0.5, 2., 1.],
+        [-2., 2., 1.],
+    ]);
     let p = [Vec3::ZERO];
     // target corners project to (+-0.8, +-0.8) in the blocker's plane: all in the U, the
     // target's centre line (0, 0.8) in the notch
-    let target: Vec<Vec3> = [[-1.6, -1.6], [1.6, -1.6], [1.6, 1.6], [-1.6, 1.6]].iter().map(|c| Vec3::new(c[0], c[1], 2.0)).collect();
+    let target: Vec<Vec3> =
+        [[-1.6, -1.6], [1.6, -1.6], [1.6, 1.6], [-1.6, 1.6]].iter().map(|c| Vec3::new(c[0], c[1], 2.0)).collect();
     assert!(ray_polygon(&u, p[0], Vec3::new(0.0, 1.6, 2.0)).is_none());
     assert!(!hides_whole(&p, &target, &u));
     let hull = poly(&[[-2., -2., 1.], [2., -2., 1.], [2., 2., 1.], [-2., 2., 1.]]);
