@@ -4,6 +4,7 @@ use crate::options::options;
 use crate::threads::pool;
 use numpy::{IntoPyArray, PyArray1, PyArray2, PyReadonlyArray1, PyReadonlyArray2};
 use nusselt_core::geometry::{GeometryError, Polygon};
+use nusselt_core::matrix::PairBlock;
 use nusselt_core::scene::{AnyMethod, Scene};
 use nusselt_core::work::CANCEL;
 use nusselt_core::Error;
@@ -30,6 +31,20 @@ impl SceneCore {
         }
         Ok(())
     }
+
+    /// A heavy call on the scene: off the GIL on the thread pool, interruptible by Ctrl-C.
+    fn run<T: Send>(&self, py: Python<'_>, f: impl FnOnce(&Scene) -> Result<T, Error> + Send) -> PyResult<T> {
+        let pool = pool();
+        crate::interrupt::run(py, || {
+            self.valid()?;
+            pool.install(|| f(&self.scene))
+        })
+    }
+}
+
+/// A block's CSR parts as numpy arrays.
+fn csr(py: Python<'_>, b: PairBlock) -> Csr<'_> {
+    (b.indptr.into_pyarray(py), b.cols.into_pyarray(py), b.g.into_pyarray(py), b.std.map(|s| s.into_pyarray(py)))
 }
 
 #[pymethods]
@@ -95,17 +110,8 @@ impl SceneCore {
     ) -> PyResult<Csr<'py>> {
         let rows = to_rows(&rows)?;
         let (m, o) = options(method, opts)?;
-        let pool = pool();
-        let b = crate::interrupt::run(py, || {
-            self.valid()?;
-            pool.install(|| self.scene.pair_block(&rows, m, &o, &CANCEL))
-        })?;
-        Ok((
-            b.indptr.into_pyarray(py),
-            b.cols.into_pyarray(py),
-            b.g.into_pyarray(py),
-            b.std.map(|s| s.into_pyarray(py)),
-        ))
+        let b = self.run(py, |scene| scene.pair_block(&rows, m, &o, &CANCEL))?;
+        Ok(csr(py, b))
     }
 
     /// Row methods: F_ij for the given rows, as CSR parts plus standard errors (NaN where the
@@ -128,11 +134,7 @@ impl SceneCore {
         let AnyMethod::Row(m) = m else {
             return Err(pyo3::exceptions::PyValueError::new_err(format!("{method:?} is not a row method")));
         };
-        let pool = pool();
-        let out = crate::interrupt::run(py, || {
-            self.valid()?;
-            pool.install(|| self.scene.full_rows(&rows, m, &o, &CANCEL))
-        })?;
+        let out = self.run(py, |scene| scene.full_rows(&rows, m, &o, &CANCEL))?;
         let (mut indptr, mut idx, mut val, mut std, mut lost) =
             (vec![0i64], Vec::new(), Vec::new(), Vec::new(), Vec::new());
         for r in &out {
@@ -166,17 +168,8 @@ impl SceneCore {
     ) -> PyResult<Csr<'py>> {
         let (p, n) = (vec3_rows(&points, "points")?, vec3_rows(&normals, "normals")?);
         let (m, o) = options(method, opts)?;
-        let pool = pool();
-        let b = crate::interrupt::run(py, || {
-            self.valid()?;
-            pool.install(|| self.scene.point_rows(&p, &n, m, obstructed, &o, &CANCEL))
-        })?;
-        Ok((
-            b.indptr.into_pyarray(py),
-            b.cols.into_pyarray(py),
-            b.g.into_pyarray(py),
-            b.std.map(|s| s.into_pyarray(py)),
-        ))
+        let b = self.run(py, |scene| scene.point_rows(&p, &n, m, obstructed, &o, &CANCEL))?;
+        Ok(csr(py, b))
     }
 
     /// F from a small sphere at each point to every receiver (visible solid angle / 4 pi),
@@ -188,17 +181,8 @@ impl SceneCore {
         obstructed: bool,
     ) -> PyResult<Csr<'py>> {
         let p = vec3_rows(&points, "points")?;
-        let pool = pool();
-        let b = crate::interrupt::run(py, || {
-            self.valid()?;
-            pool.install(|| self.scene.point_sphere_rows(&p, obstructed, &CANCEL))
-        })?;
-        Ok((
-            b.indptr.into_pyarray(py),
-            b.cols.into_pyarray(py),
-            b.g.into_pyarray(py),
-            b.std.map(|s| s.into_pyarray(py)),
-        ))
+        let b = self.run(py, |scene| scene.point_sphere_rows(&p, obstructed, &CANCEL))?;
+        Ok(csr(py, b))
     }
 
     /// Sky view factor of each point (unit normal): 1 - the fraction the scene intercepts.
@@ -209,11 +193,7 @@ impl SceneCore {
         normals: PyReadonlyArray2<'_, f64>,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let (p, n) = (vec3_rows(&points, "points")?, vec3_rows(&normals, "normals")?);
-        let pool = pool();
-        let out = crate::interrupt::run(py, || {
-            self.valid()?;
-            pool.install(|| self.scene.point_sky(&p, &n, &CANCEL))
-        })?;
+        let out = self.run(py, |scene| scene.point_sky(&p, &n, &CANCEL))?;
         Ok(out.into_pyarray(py))
     }
 
@@ -225,11 +205,7 @@ impl SceneCore {
         order: usize,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let rows = to_rows(&rows)?;
-        let pool = pool();
-        let out = crate::interrupt::run(py, || {
-            self.valid()?;
-            pool.install(|| self.scene.patch_sky(&rows, order, &CANCEL))
-        })?;
+        let out = self.run(py, |scene| scene.patch_sky(&rows, order, &CANCEL))?;
         Ok(out.into_pyarray(py))
     }
 
@@ -241,11 +217,7 @@ impl SceneCore {
         dirs: PyReadonlyArray2<'_, f64>,
     ) -> PyResult<Bound<'py, PyArray1<bool>>> {
         let (o, d) = (vec3_rows(&origins, "origins")?, vec3_rows(&dirs, "directions")?);
-        let pool = pool();
-        let out = crate::interrupt::run(py, || {
-            self.valid()?;
-            pool.install(|| self.scene.rays_blocked(&o, &d, &CANCEL))
-        })?;
+        let out = self.run(py, |scene| scene.rays_blocked(&o, &d, &CANCEL))?;
         Ok(out.into_pyarray(py))
     }
 }
