@@ -1,20 +1,34 @@
 """Typed stub of the compiled core (crates/nusselt-py). Private: use the nusselt API."""
 
-from typing import Any
+from typing import Any, final
 
 import numpy as np
 import numpy.typing as npt
+from typing_extensions import Self
+
+__all__ = [
+    "__version__",
+    "SceneCore",
+    "mirror_pairs",
+    "methods",
+    "view_factor",
+    "point_view_factor",
+    "_panic_guard_selftest",
+]
 
 __version__: str
 
+@final
 class SceneCore:
-    def __init__(
-        self,
+    def __new__(
+        cls,
         coords: npt.NDArray[np.float64],
         offsets: npt.NDArray[np.int64],
         receiver: npt.NDArray[np.bool_],
         planarity_tol: float,
-    ) -> None: ...
+    ) -> Self: ...
+    def unobstructed(self) -> bool:
+        """True when no polygon of the scene can block another pair."""
     def errors(self) -> list[str | None]: ...
     def areas(self) -> npt.NDArray[np.float64]: ...
     def normals(self) -> npt.NDArray[np.float64]: ...
@@ -86,7 +100,7 @@ def mirror_pairs(
 def view_factor(
     a: npt.NDArray[np.float64],
     b: npt.NDArray[np.float64],
-    obstacles: list[npt.NDArray[np.float64]],
+    obstacles_: list[npt.NDArray[np.float64]],
     method: str,
     opts: dict,
     planarity_tol: float,
@@ -97,7 +111,7 @@ def point_view_factor(
     p: npt.NDArray[np.float64],
     n: npt.NDArray[np.float64],
     b: npt.NDArray[np.float64],
-    obstacles: list[npt.NDArray[np.float64]],
+    obstacles_: list[npt.NDArray[np.float64]],
     method: str,
     opts: dict,
     planarity_tol: float,

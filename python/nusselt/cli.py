@@ -6,6 +6,7 @@ import argparse
 import sys
 import warnings
 from importlib import resources
+from typing import Any
 
 from . import __version__
 
@@ -189,11 +190,11 @@ def cmd_matrix(args) -> int:
         file=sys.stderr,
     )
     budget.check_disk(args.output, n, **sizes)  # refused before any work; memory: by form_factors
-    run_opts = {"dtype": dtype}
+    run_opts: dict[str, Any] = {"dtype": dtype}
     if args.dask:
         run_opts["client"] = _dask_client(args.dask)
     compute = form_factors
-    zone_opts = {}
+    zone_opts: dict[str, Any] = {}
     if zones.scene_zones(scene):
         # a building model: every zone is its own enclosure, computed alone
         compute = zones.zone_form_factors

@@ -24,10 +24,14 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
+
+if TYPE_CHECKING:
+    from .result import MatrixLike
 
 SIGMA = 5.670374419e-8  # Stefan-Boltzmann constant, W/(m2 K4) (CODATA 2018, exact in SI)
 
@@ -39,7 +43,7 @@ DENSE_LIMIT = 2000
 # input handling
 
 
-def _matrix(f) -> tuple[object, np.ndarray | None, list | None]:
+def _matrix(f) -> tuple[MatrixLike, np.ndarray | None, list | None]:
     """(matrix, areas or None, names or None) from a FormFactors or a (n, n) array."""
     from .result import FormFactors
 

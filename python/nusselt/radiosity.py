@@ -121,7 +121,7 @@ def _sweep(fs, rho, e, tol, max_iter, *, gauss_seidel: bool):
     low = sp.csr_array(sp.tril(fs, k=0)) if gauss_seidel else None
     up = sp.csr_array(sp.triu(fs, k=1)) if gauss_seidel else None
     eye = sp.identity(fs.shape[0], format="csr")
-    lows = [sp.csr_array(eye - sp.diags_array(rho[:, c]) @ low) for c in range(e.shape[1])] if gauss_seidel else None
+    lows = [sp.csr_array(eye - sp.diags_array(rho[:, c]) @ low) for c in range(e.shape[1])] if gauss_seidel else []
     for it in range(1, max_iter + 1):
         if gauss_seidel:
             rhs = e + rho * np.asarray(up @ b)

@@ -69,7 +69,9 @@ def render(
 
     if smooth:
         vv = vertex_values(polygons, np.where(ok, vals, np.nan), groups)
-        colours = [np.where(np.isfinite(v)[:, None], colormap(scale(np.nan_to_num(v, nan=hi))), 0.35) for v in vv]
+        colours: list[np.ndarray] | np.ndarray = [
+            np.where(np.isfinite(v)[:, None], colormap(scale(np.nan_to_num(v, nan=hi))), 0.35) for v in vv
+        ]
     else:
         colours = np.where(ok[:, None], colormap(scale(np.where(ok, vals, hi))), 0.35)
     img = rasterise(polygons, colours, eye=eye, look=look, up=up, fov_deg=fov_deg, size=size, background=background)

@@ -3,11 +3,16 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 import scipy.sparse as sp
 
 from . import trust as _trust
+
+# A scipy.sparse array or a dense ndarray. scipy ships no type stubs, so the sparse side is
+# Any to mypy and the union collapses to Any; the name documents what the value is.
+MatrixLike = Any
 
 
 @dataclass
@@ -36,14 +41,14 @@ class FormFactors:
         of the single-plane method).
     """
 
-    matrix: object
+    matrix: MatrixLike
     areas: np.ndarray
     names: list
     faces: np.ndarray
     method: str
     surface: np.ndarray | None = None
     surface_names: list | None = None
-    std_err: object = None
+    std_err: MatrixLike | None = None
     lost: np.ndarray | None = None
     info: dict = field(default_factory=dict)
 
@@ -127,7 +132,7 @@ class FormFactors:
         closure error, reciprocity error, row-sum range, largest standard error, and the
         largest hemisphere fraction a row method left unassigned."""
         rs = self.row_sums
-        out = {
+        out: dict[str, float | None] = {
             "closure_error": float(np.max(np.abs(rs - 1.0))) if len(rs) else 0.0,
             "reciprocity_error": self.reciprocity_error,
             "row_sum_min": float(rs.min()) if len(rs) else 0.0,

@@ -5,7 +5,8 @@ from __future__ import annotations
 import os
 import types
 import warnings
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
+from typing import Any
 
 import numpy as np
 
@@ -155,7 +156,7 @@ class Scene:
         planarity_tol: float = PLANARITY_TOL,
         source: str | None = None,
         origin: Sequence[str] | None = None,
-        meta: dict | None = None,
+        meta: Mapping[str, Any] | None = None,
     ):
         where = f"{source}: " if source else ""
         v = np.asarray(vertices, dtype=np.float64)
@@ -239,8 +240,8 @@ class Scene:
         sub = [face_list[k] for k in kept]
         oriented, report = orient_faces(v, sub, orient)
         flipped = kept[report["flipped"]]
-        for k, f in zip(kept, oriented):
-            face_list[k] = f
+        for kept_k, f in zip(kept, oriented):
+            face_list[kept_k] = f
         orient_info = {
             "orient": orient,
             "flipped": flipped.tolist(),
@@ -335,7 +336,7 @@ class Scene:
             info["orient"] = orient_info
         if dropped:
             info["repair"] = dropped
-        self.meta = types.MappingProxyType(info)  # read-only view (what the reader kept)
+        self.meta: Mapping[str, Any] = types.MappingProxyType(info)  # read-only view (what the reader kept)
         self.planarity_tol = float(planarity_tol)
         self._core = core
         self.areas = _frozen(areas)
@@ -393,7 +394,7 @@ class Scene:
     # --- changed copies -------------------------------------------------------------------
     def _replace(self, **changes) -> Scene:
         """A new Scene with some constructor arguments changed (orientation as it is now)."""
-        args = dict(
+        args: dict[str, Any] = dict(
             surface=self.surface,
             names=self.surface_names,
             obstruction=self.obstruction,

@@ -15,7 +15,7 @@ kelvin.
 from __future__ import annotations
 
 from collections.abc import Mapping
-from typing import Literal
+from typing import Literal, cast
 
 import numpy as np
 import scipy.sparse as sp
@@ -181,7 +181,7 @@ def radiant_temperature(
     f = f_surface.toarray() if sp.issparse(f_surface) else np.asarray(f_surface, dtype=np.float64)
     t4, missing = _surface_t4(scene, temperatures)
     seen = f > 0
-    lacking = np.flatnonzero(seen[:, np.isnan(t4)].any(axis=0)) if np.isnan(t4).any() else []
+    lacking: np.ndarray | list[int] = np.flatnonzero(seen[:, np.isnan(t4)].any(axis=0)) if np.isnan(t4).any() else []
     if len(lacking):
         name = [scene.surface_names[k] for k in np.flatnonzero(np.isnan(t4))][lacking[0]]
         raise ValueError(f"surface {name!r} is seen by a sensor but has no temperature")
@@ -250,7 +250,7 @@ def mean_radiant_temperature(
     )
     w_ud, w_lr, w_fb = ISO7726_WEIGHTS[form]
     w = {"up": w_ud, "down": w_ud, "left": w_lr, "right": w_lr, "front": w_fb, "back": w_fb}
-    return sum(w[d] * t[d] for d in _SIX) / sum(w.values())
+    return cast(np.ndarray, sum(w[d] * t[d] for d in _SIX) / sum(w.values()))
 
 
 def plane_radiant_temperatures(

@@ -270,8 +270,8 @@ def _from_idf(path: str, text: str) -> list[_Obj]:
             names = _GEOMETRY_RULE_FIELDS
         else:
             layouts = _idf_layouts(kind, version)
-            names = next((lay for lay in layouts if _fits(kind, lay, values)), None)
-            if names is None:
+            layout = next((lay for lay in layouts if _fits(kind, lay, values)), None)
+            if layout is None:
                 lens = " or ".join(str(len(lay)) for lay in layouts)
                 raise parse_error(
                     path,
@@ -280,6 +280,7 @@ def _from_idf(path: str, text: str) -> list[_Obj]:
                     f"match its layout ({lens} fields before the vertices, or in all, "
                     f"for EnergyPlus {'{}.{}'.format(*version) if version else 'without a Version object'})",
                 )
+            names = layout
         fields = {k: v for k, v in zip(names, values)}
         verts = None
         if (kind in _BASE and _BASE[kind][0] == "detailed") or kind == "FenestrationSurface:Detailed":
@@ -477,7 +478,7 @@ def _cut(path, base: dict, subs: list[dict]) -> list[np.ndarray]:
             parts = _triangulate_2d(b2)
         except ValueError:
             raise parse_error(path, base["where"], f"{base['label']} is not a simple polygon") from None
-    holes = []
+    holes: list[tuple[dict, np.ndarray]] = []
     for s in subs:
         what = f"{s['label']} (on {base['label']})"
         dist = float(np.max(np.abs(frame.height(s["poly"]))))
@@ -556,8 +557,8 @@ def _build(path: str, objs: list[_Obj], dialect: str) -> SceneData:
     zones: dict[str, _Zone] = {}
     for o in objs:
         if o.kind == "GlobalGeometryRules":
-            for k in _GEOMETRY_RULE_FIELDS:
-                rules[k] = _choice(path, o, k, o.fields.get(k, ""))
+            for rule in _GEOMETRY_RULE_FIELDS:
+                rules[rule] = _choice(path, o, rule, o.fields.get(rule, ""))
         elif o.kind == "Building":
             building_north = _num(path, o, "north_axis", 0.0)
         elif o.kind == "Zone":
@@ -566,8 +567,8 @@ def _build(path: str, objs: list[_Obj], dialect: str) -> SceneData:
                 raise parse_error(path, o.where, "Zone without a name")
             if key in zones:
                 raise parse_error(path, o.where, f"zone {o.name!r} is defined twice (first at {zones[key].where})")
-            origin = np.array([_num(path, o, f"{c}_origin", 0.0) for c in "xyz"])
-            zones[key] = _Zone(o.name, _num(path, o, "direction_of_relative_north", 0.0), origin, o.where)
+            zone_origin = np.array([_num(path, o, f"{c}_origin", 0.0) for c in "xyz"])
+            zones[key] = _Zone(o.name, _num(path, o, "direction_of_relative_north", 0.0), zone_origin, o.where)
     ccw = rules["vertex_entry_direction"] == "counterclockwise"
     detailed_relative = rules["coordinate_system"] == "relative"
     rect_relative = rules["rectangular_surface_coordinate_system"] == "relative"
@@ -709,8 +710,14 @@ def _build(path: str, objs: list[_Obj], dialect: str) -> SceneData:
             stacklevel=3,
         )
 
-    names, surface_zone, surface_type, base_of = [], [], [], []
-    verts, faces, surface, origin = [], [], [], []
+    names: list[str] = []
+    surface_zone: list[str] = []
+    surface_type: list[str] = []
+    base_of: list[str | None] = []
+    verts: list[np.ndarray] = []
+    faces: list[np.ndarray] = []
+    surface: list[int] = []
+    origin: list[str] = []
     nverts = 0
     for key in order:
         rec = surfaces[key]
@@ -849,7 +856,7 @@ def read_user_view_factors(path) -> dict[str, dict[tuple[str, str], float]]:
     out: dict[str, dict[tuple[str, str], float]] = {}
     if path.lower().endswith(".epjson") or text.lstrip().startswith("{"):
         doc = json.loads(text)
-        group = next((v for k, v in doc.items() if k.lower() == OBJECT.lower()), {})
+        group: dict[str, dict] = next((v for k, v in doc.items() if k.lower() == OBJECT.lower()), {})
         for obj in group.values():
             z = obj["zone_or_zonelist_or_space_or_spacelist_name"]
             out[z] = {(e["from_surface"], e["to_surface"]): float(e["view_factor"]) for e in obj["view_factors"]}

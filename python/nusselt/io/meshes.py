@@ -71,8 +71,9 @@ def _stl_solid_names(path: str, ntri: int) -> list[str] | None:
         if size >= 84 and 84 + 50 * int.from_bytes(head[80:84], "little") == size:
             return None  # binary file whose header happens to start with "solid"
         fh.seek(0)
-        names, current = [], None
-        solids = []
+        names: list[str] = []
+        current: str | None = None
+        solids: list[str] = []
         for raw in fh:
             line = raw.decode("utf-8", errors="replace").strip()
             low = line.lower()
@@ -178,7 +179,8 @@ def read_mesh(path: str, format: str | None = None) -> SceneData:
 
     # Surface cells: (block index, index in block, global cell id, vertex indices).
     faces, block_of, index_in_block, origin = [], [], [], []
-    volume_types, skipped = {}, {}
+    volume_types: dict[str, int] = {}
+    skipped: dict[str, int] = {}
     gid = 0
     for b, block in enumerate(mesh.cells):
         ctype = block.type
@@ -229,9 +231,7 @@ def read_mesh(path: str, format: str | None = None) -> SceneData:
             SkippedCellsWarning,
             stacklevel=3,
         )
-    block_of = np.array(block_of)
-    index_in_block = np.array(index_in_block)
-    names, surface, how = _surface_names(path, mesh, block_of, index_in_block, len(faces))
+    names, surface, how = _surface_names(path, mesh, np.array(block_of), np.array(index_in_block), len(faces))
     meta = {"format": "meshio", "meshio_format": format, "names_from": how}
     if volume_types:
         meta["skipped_volume_cells"] = volume_types

@@ -186,7 +186,7 @@ def read_view3d(path: str) -> SceneData:
         )
 
     title = ""
-    controls: dict[str, float | int] = {}
+    controls: dict[str, float | int | str] = {}  # unknown controls keep their text
     vertices: list[tuple[float, float, float]] = []
     vertex_line: list[int] = []
     surfaces: list[_Surface] = []
@@ -438,7 +438,7 @@ def _cut_holes(base: _Surface, holes: list[_Surface], err) -> list[np.ndarray]:
             f"{_KIND_WORD[base.kind]} {base.number} has sub-surfaces but is not convex "
             "(View3D surfaces must be convex)",
         )
-    h2s = []
+    h2s: list[tuple[_Surface, np.ndarray]] = []
     for h in holes:
         what = f"sub-surface {h.number}" if h.kind == "S" else f"{_KIND_WORD[h.kind]} {h.number}"
         dist = np.max(np.abs(frame.height(h.coords)))

@@ -11,6 +11,8 @@ from __future__ import annotations
 import csv
 import json
 import os
+from collections.abc import Callable
+from typing import Any
 
 import numpy as np
 import scipy.sparse as sp
@@ -126,7 +128,8 @@ def write_npz(path, matrix, areas, names, *, compress: bool = False, **extra_arr
             if a.dtype == object:
                 a = np.array([str(x) for x in a.ravel()], dtype=str).reshape(a.shape)
             arrays[key] = a
-    save = np.savez_compressed if compress else np.savez
+    # Callable[..., None]: numpy's stubs reject ``**arrays`` as it could hold ``allow_pickle``.
+    save: Callable[..., None] = np.savez_compressed if compress else np.savez
     with _atomic(path, "wb") as fh:
         save(fh, **arrays)
 
@@ -275,7 +278,7 @@ def write_energyplus(path, matrix, names, zone_name: str, *, all_pairs: bool = F
     for label in [zone] + names:
         if not label or any(ch in label for ch in ",;!\n\r"):
             raise ValueError(f"{path}: {label!r} cannot be an EnergyPlus name (empty, or holds , ; or !)")
-    triplets = []
+    triplets: list[tuple[str, str, float]] = []
     for i, row in enumerate(_dense_rows(matrix, n)):
         bad = np.flatnonzero((row < -1e-9) | (row > 1 + 1e-9) | ~np.isfinite(row))
         if bad.size:
@@ -318,7 +321,7 @@ def write_vtu(path, polygons_vertices, faces, cell_data: dict | None = None) -> 
     for k, f in enumerate(faces):
         if f.size < 3 or f.min() < 0 or f.max() >= len(pts):
             raise ValueError(f"face {k} is not a polygon over the {len(pts)} vertices")
-    data = {}
+    data: dict[str, np.ndarray] = {}
     for name, arr in (cell_data or {}).items():
         a = np.asarray(arr)
         if a.shape[:1] != (nf,):
@@ -329,13 +332,14 @@ def write_vtu(path, polygons_vertices, faces, cell_data: dict | None = None) -> 
     sizes = np.array([f.size for f in faces])
     starts = np.flatnonzero(np.r_[True, sizes[1:] != sizes[:-1]])
     ends = np.r_[starts[1:], nf]
-    cells, block_data = [], {k: [] for k in data}
+    cells = []
+    block_data: dict[str, list[np.ndarray]] = {k: [] for k in data}
     for s, e in zip(starts, ends):
         m = sizes[s]
         ctype = {3: "triangle", 4: "quad"}.get(int(m), "polygon")
         cells.append(meshio.CellBlock(ctype, np.array(faces[s:e])))
-        for k, a in data.items():
-            block_data[k].append(a[s:e])
+        for key, a in data.items():
+            block_data[key].append(a[s:e])
     mesh = meshio.Mesh(pts, cells, cell_data=block_data)
     with atomic_path(path) as tmp:
         meshio.write(tmp, mesh, file_format="vtu")
@@ -423,7 +427,7 @@ def write_result(
     patch_level = _get(result, "surface") is not None
 
     if fmt == "npz":
-        extra = {}
+        extra: dict[str, Any] = {}
         m = _get(result, "matrix")
         extra["row_sums"] = np.asarray(m.sum(axis=1)).ravel()
         for key in ("faces", "surface", "lost", "std_err"):
