@@ -118,7 +118,10 @@ def run_blocks(
                 progress_bar.update(len(rows))
     if todo:
         payload = scene_payload(scene)
-        shipped = client.scatter(payload, broadcast=True, hash=False)
+        # one future under a fresh key: scattering the dict itself keys its arrays by their names
+        # ("coords", ...), and a second run would reuse keys the first run is still releasing
+        # (its blocks then failed with "lost dependencies")
+        [shipped] = client.scatter([payload], broadcast=True, hash=False)
         tag = hashlib.sha256((payload["digest"] + method + repr(sorted(opts.items())) + kind).encode()).hexdigest()[:16]
         futures = {}
         for k in todo:
