@@ -17,6 +17,7 @@ worker, with the same nusselt version.
 from __future__ import annotations
 
 import hashlib
+import uuid
 from collections.abc import Callable, Sequence
 from typing import Any
 
@@ -123,6 +124,9 @@ def run_blocks(
         # (its blocks then failed with "lost dependencies")
         [shipped] = client.scatter([payload], broadcast=True, hash=False)
         tag = hashlib.sha256((payload["digest"] + method + repr(sorted(opts.items())) + kind).encode()).hexdigest()[:16]
+        # keys fresh per run: a key the scheduler still holds from an earlier, cancelled or
+        # released run of the same blocks would hand its fate (cancelled) to this one
+        run = uuid.uuid4().hex[:12]
         futures = {}
         for k in todo:
             f = client.submit(
@@ -132,7 +136,7 @@ def run_blocks(
                 method,
                 opts,
                 kind,
-                key=f"nusselt-block-{tag}-{k}",
+                key=f"nusselt-block-{tag}-{run}-{k}",
                 retries=RETRIES,
                 pure=False,
             )
