@@ -64,6 +64,17 @@ class PlaneFrame:
         return (p - self.c) @ self.n
 
 
+def is_convex_2d(q: np.ndarray, tol: float) -> bool:
+    """True when the counter-clockwise 2-D outline ``q`` turns left (or straight, within the
+    cross-product tolerance ``tol``, an area) at every vertex."""
+    n = len(q)
+    for k in range(n):
+        a, b, c = q[k - 1], q[k], q[(k + 1) % n]
+        if (b[0] - a[0]) * (c[1] - b[1]) - (b[1] - a[1]) * (c[0] - b[0]) < -tol:
+            return False
+    return True
+
+
 def _clip(poly: np.ndarray, a: np.ndarray, b: np.ndarray, keep_left: bool) -> np.ndarray:
     """Sutherland-Hodgman clip of a convex polygon to one side of the line a->b
     (points on the line are kept on both sides)."""

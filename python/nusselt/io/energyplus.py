@@ -452,15 +452,6 @@ def _triangulate_2d(p: np.ndarray) -> list[np.ndarray]:
     return tris
 
 
-def _is_convex_2d(q: np.ndarray, tol: float) -> bool:
-    n = len(q)
-    for k in range(n):
-        a, b, c = q[k - 1], q[k], q[(k + 1) % n]
-        if (b[0] - a[0]) * (c[1] - b[1]) - (b[1] - a[1]) * (c[0] - b[0]) < -tol:
-            return False
-    return True
-
-
 def _cut(path, base: dict, subs: list[dict]) -> list[np.ndarray]:
     """The base polygon (nusselt orientation) minus its subsurfaces, as simple polygons."""
     bpoly = base["poly"]
@@ -470,7 +461,7 @@ def _cut(path, base: dict, subs: list[dict]) -> list[np.ndarray]:
         raise parse_error(path, base["where"], f"{base['label']} has zero area but has windows or doors") from None
     size = frame.size
     b2 = frame.to2d(bpoly)
-    convex = _is_convex_2d(b2, 1e-9 * size * size)
+    convex = _planar.is_convex_2d(b2, 1e-9 * size * size)
     if convex:
         parts = [b2]
     else:
@@ -497,7 +488,7 @@ def _cut(path, base: dict, subs: list[dict]) -> list[np.ndarray]:
                 if a < 0
                 else f"{what} has zero area",
             )
-        if not _is_convex_2d(q, 1e-9 * size * size):
+        if not _planar.is_convex_2d(q, 1e-9 * size * size):
             raise parse_error(path, s["where"], f"{what} is not convex")
         inside = sum(_planar.convex_intersection_area(q, t) for t in parts)
         if inside < (1 - 1e-6) * a:
@@ -773,9 +764,10 @@ def _check_name(path, label: str) -> str:
     return s
 
 
-def view_factor_triplets(path, matrix, names) -> list[tuple[str, str, float]]:
-    """All N^2 (from, to, F) triplets of a surface matrix, row = from; values checked to lie
-    in [0, 1] (round-off up to 1e-9 outside is clipped)."""
+def view_factor_triplets(path, matrix, names, *, all_pairs: bool = True) -> list[tuple[str, str, float]]:
+    """The (from, to, F) triplets of a surface matrix, row = from: all N^2, or with
+    ``all_pairs=False`` the nonzero ones; values checked to lie in [0, 1] (round-off up to
+    1e-9 outside is clipped)."""
     import scipy.sparse as sp
 
     f = matrix.toarray() if sp.issparse(matrix) else np.asarray(matrix, dtype=np.float64)
@@ -787,14 +779,18 @@ def view_factor_triplets(path, matrix, names) -> list[tuple[str, str, float]]:
         i, j = bad[0]
         raise ValueError(f"{path}: F[{names[i]} -> {names[j]}] = {float(f[i, j])!r} is not a view factor in [0, 1]")
     f = np.clip(f, 0.0, 1.0)
-    return [(names[i], names[j], float(f[i, j])) for i in range(n) for j in range(n)]
+    return [(names[i], names[j], float(f[i, j])) for i in range(n) for j in range(n) if all_pairs or f[i, j] != 0]
 
 
-def write_user_view_factors(path, zones: list[tuple[str, object, list[str]]], *, format: str | None = None) -> None:
+def write_user_view_factors(
+    path, zones: list[tuple[str, object, list[str]]], *, format: str | None = None, all_pairs: bool = True
+) -> None:
     """Write one ``ZoneProperty:UserViewFactors:BySurfaceName`` object per zone.
 
     ``zones`` lists ``(zone name, F, surface names)`` with F the zone's square surface matrix
-    (row = from surface). Every pair is written, zeros included. ``format`` is ``"idf"`` or
+    (row = from surface). Every pair is written, zeros included (EnergyPlus warns about missing
+    pairs); ``all_pairs=False`` writes only the nonzero ones, which EnergyPlus takes as zero.
+    ``format`` is ``"idf"`` or
     ``"epjson"`` (default: from the extension, ``.epJSON`` -> epJSON).
 
     IDF fields (Energy+.idd): ``Zone or ZoneList or Space or SpaceList Name``, then the
@@ -819,7 +815,9 @@ def write_user_view_factors(path, zones: list[tuple[str, object, list[str]]], *,
             raise ValueError(f"{path}: zone {zone!r} is given twice")
         seen.add(zone.lower())
         names = [_check_name(path, s) for s in names]
-        objects.append((zone, view_factor_triplets(path, matrix, names)))
+        objects.append((zone, view_factor_triplets(path, matrix, names, all_pairs=all_pairs)))
+    if not any(trip for _, trip in objects):
+        raise ValueError(f"{path}: every view factor is zero; nothing to write")
     with _atomic(path, "w") as fh:
         if fmt == "epjson":
             doc = {

@@ -415,15 +415,6 @@ def _check_references(surfaces: list[_Surface], err) -> None:
                 )
 
 
-def _is_convex(q: np.ndarray, tol: float) -> bool:
-    n = len(q)
-    for k in range(n):
-        a, b, c = q[k - 1], q[k], q[(k + 1) % n]
-        if (b[0] - a[0]) * (c[1] - b[1]) - (b[1] - a[1]) * (c[0] - b[0]) < -tol:
-            return False
-    return True
-
-
 def _cut_holes(base: _Surface, holes: list[_Surface], err) -> list[np.ndarray]:
     """The base's polygon minus its sub-surfaces, masks and null surfaces, as convex pieces."""
     try:
@@ -432,7 +423,7 @@ def _cut_holes(base: _Surface, holes: list[_Surface], err) -> list[np.ndarray]:
         raise err(base.line, f"{_KIND_WORD[base.kind]} {base.number} has zero area but has sub-surfaces") from None
     size = frame.size
     b2 = frame.to2d(base.coords)
-    if not _is_convex(b2, 1e-9 * size * size):
+    if not _planar.is_convex_2d(b2, 1e-9 * size * size):
         raise err(
             base.line,
             f"{_KIND_WORD[base.kind]} {base.number} has sub-surfaces but is not convex "
@@ -463,7 +454,7 @@ def _cut_holes(base: _Surface, holes: list[_Surface], err) -> list[np.ndarray]:
             )
         if a < 0:
             q = q[::-1].copy()
-        if not _is_convex(q, 1e-9 * size * size):
+        if not _planar.is_convex_2d(q, 1e-9 * size * size):
             raise err(h.line, f"{what} is not convex (View3D surfaces must be convex)")
         inside = _planar.convex_intersection_area(q, b2)
         if inside < (1 - 1e-6) * abs(a):

@@ -258,8 +258,6 @@ def write_view3d(
 
 # --- EnergyPlus ---------------------------------------------------------------------------
 
-ENERGYPLUS_OBJECT = "ZoneProperty:UserViewFactors:BySurfaceName"
-
 
 def write_energyplus(path, matrix, names, zone_name: str, *, all_pairs: bool = False) -> None:
     """EnergyPlus ``ZoneProperty:UserViewFactors:BySurfaceName`` object (IDF text).
@@ -271,36 +269,10 @@ def write_energyplus(path, matrix, names, zone_name: str, *, all_pairs: bool = F
     nonzero entries are written unless ``all_pairs``. ``names`` must be the EnergyPlus
     surface names of the zone.
     """
-    path = os.fspath(path)
+    from .energyplus import write_user_view_factors
+
     n = _square(matrix)
-    names = _names(names, n)
-    zone = str(zone_name).strip()
-    for label in [zone] + names:
-        if not label or any(ch in label for ch in ",;!\n\r"):
-            raise ValueError(f"{path}: {label!r} cannot be an EnergyPlus name (empty, or holds , ; or !)")
-    triplets: list[tuple[str, str, float]] = []
-    for i, row in enumerate(_dense_rows(matrix, n)):
-        bad = np.flatnonzero((row < -1e-9) | (row > 1 + 1e-9) | ~np.isfinite(row))
-        if bad.size:
-            j = bad[0]
-            raise ValueError(f"{path}: F[{names[i]} -> {names[j]}] = {float(row[j])!r} is not a view factor in [0, 1]")
-        row = np.clip(row, 0.0, 1.0)
-        cols = range(n) if all_pairs else np.flatnonzero(row)
-        triplets.extend((names[i], names[j], float(row[j])) for j in cols)
-    if not triplets:
-        raise ValueError(f"{path}: every view factor is zero; nothing to write")
-    with _atomic(path, "w") as fh:
-        fh.write(f"{ENERGYPLUS_OBJECT},\n")
-        fh.write(f"    {zone + ',':<30} !- Zone or ZoneList or Space or SpaceList Name\n")
-        last = len(triplets)
-        for k, (a, b, f) in enumerate(triplets, start=1):
-            end = ";" if k == last else ","
-            fh.write(f"    {a + ',':<30} !- From Surface {k}\n")
-            fh.write(f"    {b + ',':<30} !- To Surface {k}\n")
-            fh.write(f"    {repr(f) + end:<30} !- View Factor {k}\n")
-
-
-# --- VTU ----------------------------------------------------------------------------------
+    write_user_view_factors(path, [(zone_name, matrix, _names(names, n))], format="idf", all_pairs=all_pairs)
 
 
 def write_vtu(path, polygons_vertices, faces, cell_data: dict | None = None) -> None:
