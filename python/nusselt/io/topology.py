@@ -17,7 +17,6 @@ from dataclasses import dataclass
 
 import numpy as np
 import scipy.sparse as sp
-from scipy.sparse.csgraph import breadth_first_order, connected_components
 
 ORIENTS = ("auto", "inward", "outward", "as-is")
 
@@ -87,6 +86,8 @@ def shells(vertices: np.ndarray, faces: list[np.ndarray]) -> Shells:
     edge_ok = (count == 2) & (forward == 1)
     # faces and edges as one graph: a face is joined to its edges
     g = sp.coo_matrix((np.ones(len(flat)), (face_of_edge, nf + key_of_edge)), shape=(nf + nk, nf + nk))
+    from scipy.sparse.csgraph import connected_components  # on first use: it imports scipy.linalg
+
     _, lab = connected_components(g, directed=False)
     face_lab = lab[:nf]
     _, face_lab = np.unique(face_lab, return_inverse=True)
@@ -128,6 +129,8 @@ def _consistent_flips(vertices: np.ndarray, faces: list[np.ndarray], members: np
     for root in range(nf):
         if seen[root]:
             continue
+        from scipy.sparse.csgraph import breadth_first_order
+
         bfs, pred = breadth_first_order(g, root, directed=False, return_predecessors=True)
         seen[bfs] = True
         for node in bfs[1:]:
