@@ -27,7 +27,7 @@ import numpy as np
 
 import nusselt
 from nusselt import radiosity
-from nusselt.cli import bundled
+from nusselt.data import bundled
 from nusselt.render import render_rgb, vertex_values, write_png
 
 

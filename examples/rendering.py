@@ -36,7 +36,7 @@ import time
 import numpy as np
 
 import nusselt
-from nusselt.cli import bundled
+from nusselt.data import bundled
 from nusselt.render import render, write_png
 
 # Diffuse reflectance per colour channel (R, G, B), roughly the published Cornell box values.

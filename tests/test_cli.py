@@ -14,6 +14,7 @@ import pytest
 from conftest import cube_faces
 
 import nusselt
+import nusselt.data
 import nusselt.io as nio
 from nusselt.cli import main
 from nusselt.render import colormap, render, value_range, write_png
@@ -134,7 +135,7 @@ def test_malformed_files_give_one_line_errors(tmp_path, capsys, name):
 )
 def test_bad_arguments_give_one_line_errors(tmp_path, capsys, args, what):
     good = tmp_path / "box.obj"
-    good.write_text(open(nusselt.cli.bundled("cornell_empty.obj")).read())
+    good.write_text(open(nusselt.data.bundled("cornell_empty.obj")).read())
     subs = {"missing": str(tmp_path / "missing.obj"), "out": str(tmp_path / "out"), "good": str(good)}
     rc = main([a.format(**subs) for a in args])
     err = capsys.readouterr().err.strip().splitlines()
@@ -162,7 +163,7 @@ def test_matrix_npz_stores_trust_measures_and_threshold(tmp_path, capsys):
         main(
             [
                 "matrix",
-                nusselt.cli.bundled("cornell_empty.obj"),
+                nusselt.data.bundled("cornell_empty.obj"),
                 "-o",
                 str(out),
                 "-q",
@@ -182,7 +183,7 @@ def test_matrix_npz_stores_trust_measures_and_threshold(tmp_path, capsys):
     assert info["reciprocity_error"] < 1e-12  # pairs dropped in both directions only
     assert info["threshold"] == 0.02 and info["dropped"] > 0
     # every pair dropped had both entries below the threshold; the full run tells which
-    full = nusselt.form_factors(nusselt.Scene.from_file(nusselt.cli.bundled("cornell_empty.obj")).refined(200))
+    full = nusselt.form_factors(nusselt.Scene.from_file(nusselt.data.bundled("cornell_empty.obj")).refined(200))
     g = full.matrix.toarray()
     kept = f.toarray() != 0
     small = (g < 0.02) & (g.T < 0.02)
@@ -223,7 +224,7 @@ def test_correct_option_fixes_sampled_rows_and_refuses_open_scenes(tmp_path, cap
     rc = main(
         [
             "matrix",
-            nusselt.cli.bundled("cornell_empty.obj"),
+            nusselt.data.bundled("cornell_empty.obj"),
             "-o",
             str(out),
             "-q",

@@ -5,10 +5,10 @@ from __future__ import annotations
 import argparse
 import sys
 import warnings
-from importlib import resources
 from typing import Any
 
 from . import __version__
+from .data import bundled, cornell_box  # noqa: F401 (bundled: its home before nusselt.data)
 
 
 def _option_value(text: str):
@@ -32,11 +32,6 @@ def _parse_options(pairs: list[str]) -> dict:
     return out
 
 
-def bundled(name: str) -> str:
-    """Path of a scene shipped with the package (python/nusselt/data)."""
-    return str(resources.files("nusselt") / "data" / name)
-
-
 def cmd_demo(args) -> int:
     """The bundled Cornell box with its two blocks: the surface matrix (obstructed, auto) and a
     picture of every patch coloured by its form factor to the light."""
@@ -49,7 +44,7 @@ def cmd_demo(args) -> int:
     from .render import render, value_range, write_png
     from .scene import Scene
 
-    base = Scene.from_file(bundled("cornell_box.obj"))
+    base = cornell_box()
     # One surface per block for the summary (the OBJ has one object per block face).
     names = [
         base.surface_names[s].split("_")[0] + " block" if "_" in base.surface_names[s] else base.surface_names[s]
