@@ -42,8 +42,9 @@ zone and are ignored. Window multipliers above 1 cannot be drawn: a warning name
 Each zone is its own enclosure: ``meta["surface_zone"]`` gives the zone of every named
 surface, and :func:`nusselt.zones.zone_form_factors` computes zone by zone.
 
-Writing: :func:`write_user_view_factors` writes one object per zone with all N^2 pairs (zeros
-included: EnergyPlus warns when pairs are missing), as IDF text or epJSON.
+Writing: :func:`nusselt.io.writers.energyplus.write_user_view_factors` writes one object per
+zone with all N^2 pairs (zeros included: EnergyPlus warns when pairs are missing), as IDF text
+or epJSON; :func:`read_user_view_factors` here reads them back.
 """
 
 from __future__ import annotations
@@ -752,96 +753,6 @@ def _build(path: str, objs: list[_Obj], dialect: str) -> SceneData:
         source=path,
         meta=meta,
     )
-
-
-# --- writing -------------------------------------------------------------------------------
-
-
-def _check_name(path, label: str) -> str:
-    s = str(label).strip()
-    if not s or any(ch in s for ch in ",;!\n\r"):
-        raise ValueError(f"{path}: {label!r} cannot be an EnergyPlus name (empty, or holds , ; or !)")
-    return s
-
-
-def view_factor_triplets(path, matrix, names, *, all_pairs: bool = True) -> list[tuple[str, str, float]]:
-    """The (from, to, F) triplets of a surface matrix, row = from: all N^2, or with
-    ``all_pairs=False`` the nonzero ones; values checked to lie in [0, 1] (round-off up to
-    1e-9 outside is clipped)."""
-    import scipy.sparse as sp
-
-    f = matrix.toarray() if sp.issparse(matrix) else np.asarray(matrix, dtype=np.float64)
-    n = len(names)
-    if f.shape != (n, n):
-        raise ValueError(f"{path}: a {f.shape} matrix for {n} surface names")
-    bad = np.argwhere((f < -1e-9) | (f > 1 + 1e-9) | ~np.isfinite(f))
-    if len(bad):
-        i, j = bad[0]
-        raise ValueError(f"{path}: F[{names[i]} -> {names[j]}] = {float(f[i, j])!r} is not a view factor in [0, 1]")
-    f = np.clip(f, 0.0, 1.0)
-    return [(names[i], names[j], float(f[i, j])) for i in range(n) for j in range(n) if all_pairs or f[i, j] != 0]
-
-
-def write_user_view_factors(
-    path, zones: list[tuple[str, object, list[str]]], *, format: str | None = None, all_pairs: bool = True
-) -> None:
-    """Write one ``ZoneProperty:UserViewFactors:BySurfaceName`` object per zone.
-
-    ``zones`` lists ``(zone name, F, surface names)`` with F the zone's square surface matrix
-    (row = from surface). Every pair is written, zeros included (EnergyPlus warns about missing
-    pairs); ``all_pairs=False`` writes only the nonzero ones, which EnergyPlus takes as zero.
-    ``format`` is ``"idf"`` or
-    ``"epjson"`` (default: from the extension, ``.epJSON`` -> epJSON).
-
-    IDF fields (Energy+.idd): ``Zone or ZoneList or Space or SpaceList Name``, then the
-    extensible group ``From Surface i``, ``To Surface i``, ``View Factor i``. epJSON
-    (EnergyPlus's schema, generated from the IDD): the object is keyed by an arbitrary unique
-    name, with ``zone_or_zonelist_or_space_or_spacelist_name`` and the array ``view_factors``
-    of ``{from_surface, to_surface, view_factor}``.
-    """
-    from .writers import _atomic
-
-    path = os.fspath(path)
-    fmt = (format or ("epjson" if path.lower().endswith(".epjson") else "idf")).lower()
-    if fmt not in ("idf", "epjson"):
-        raise ValueError(f"unknown EnergyPlus format {format!r}; choose idf or epjson")
-    if not zones:
-        raise ValueError(f"{path}: no zones to write")
-    objects = []
-    seen = set()
-    for zone, matrix, names in zones:
-        zone = _check_name(path, zone)
-        if zone.lower() in seen:
-            raise ValueError(f"{path}: zone {zone!r} is given twice")
-        seen.add(zone.lower())
-        names = [_check_name(path, s) for s in names]
-        objects.append((zone, view_factor_triplets(path, matrix, names, all_pairs=all_pairs)))
-    if not any(trip for _, trip in objects):
-        raise ValueError(f"{path}: every view factor is zero; nothing to write")
-    with _atomic(path, "w") as fh:
-        if fmt == "epjson":
-            doc = {
-                OBJECT: {
-                    f"{OBJECT} {k}": {
-                        "zone_or_zonelist_or_space_or_spacelist_name": zone,
-                        "view_factors": [{"from_surface": a, "to_surface": b, "view_factor": f} for a, b, f in trip],
-                    }
-                    for k, (zone, trip) in enumerate(objects, start=1)
-                }
-            }
-            json.dump(doc, fh, indent=2)
-            fh.write("\n")
-            return
-        for zone, trip in objects:
-            fh.write(f"{OBJECT},\n")
-            fh.write(f"    {zone + ',':<30} !- Zone or ZoneList or Space or SpaceList Name\n")
-            last = len(trip)
-            for k, (a, b, f) in enumerate(trip, start=1):
-                end = ";" if k == last else ","
-                fh.write(f"    {a + ',':<30} !- From Surface {k}\n")
-                fh.write(f"    {b + ',':<30} !- To Surface {k}\n")
-                fh.write(f"    {repr(f) + end:<30} !- View Factor {k}\n")
-            fh.write("\n")
 
 
 def read_user_view_factors(path) -> dict[str, dict[tuple[str, str], float]]:
