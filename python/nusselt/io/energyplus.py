@@ -370,17 +370,9 @@ def _rot_z(p: np.ndarray, deg: float) -> np.ndarray:
     """Rotate points clockwise (seen from above) by ``deg`` about the z axis."""
     if deg == 0.0:
         return p
-    c, s = _cos_sin(-deg)
+    c, s = _planar.cos_sin_deg(-deg)
     x, y = p[:, 0], p[:, 1]
     return np.column_stack([x * c - y * s, x * s + y * c, p[:, 2]])
-
-
-def _cos_sin(deg: float) -> tuple[float, float]:
-    q = deg / 90.0
-    if q == round(q):
-        return [(1.0, 0.0), (0.0, 1.0), (-1.0, 0.0), (0.0, -1.0)][int(round(q)) % 4]
-    r = math.radians(deg)
-    return math.cos(r), math.sin(r)
 
 
 class _Zone:
@@ -415,100 +407,35 @@ def _outside_frame(poly_out: np.ndarray, azimuth_hint: float | None) -> tuple[np
     return ex, np.cross(n, ex)
 
 
-def _triangulate_2d(p: np.ndarray) -> list[np.ndarray]:
-    """Ear clipping of a simple counter-clockwise 2-D polygon."""
-    idx = list(range(len(p)))
-    tris = []
-    scale = float(np.max(np.ptp(p, axis=0))) or 1.0
-    eps = 1e-14 * scale * scale
-
-    def cross(a, b, c):
-        return (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
-
-    guard = 0
-    while len(idx) > 3 and guard < 10 * len(p) ** 2:
-        guard += 1
-        m = len(idx)
-        for k in range(m):
-            i0, i1, i2 = idx[k - 1], idx[k], idx[(k + 1) % m]
-            a, b, c = p[i0], p[i1], p[i2]
-            if cross(a, b, c) <= eps:
-                continue
-            inside = False
-            for j in idx:
-                if j in (i0, i1, i2):
-                    continue
-                q = p[j]
-                if cross(a, b, q) >= -eps and cross(b, c, q) >= -eps and cross(c, a, q) >= -eps:
-                    inside = True
-                    break
-            if not inside:
-                tris.append(np.array([a, b, c]))
-                del idx[k]
-                break
-        else:
-            raise ValueError("polygon is not simple (no ear found)")
-    if len(idx) == 3:
-        tris.append(p[idx])
-    return tris
+#: EnergyPlus's rules for windows and doors: convex, facing as their base, which may be concave.
+_CUT_RULES = _planar.CutRules(
+    plane_tol=1e-4,
+    concave_base=True,
+    messages={
+        "zero_base": "{base} has zero area but has windows or doors",
+        "not_simple": "{base} is not a simple polygon",
+        "off_plane": "{what} is not in the plane of its base surface (a vertex is {dist:.3g} m from it)",
+        "zero_area": "{what} has zero area",
+        "wrong_way": "{what} faces the opposite way to its base surface "
+        "(its vertices must go round in the same sense as the base's)",
+        "not_convex": "{what} is not convex",
+        "outside": "{what} is not inside its base surface ({pct:.3g}% of it lies outside)",
+        "overlap": "{what} overlaps {other}",
+    },
+)
 
 
 def _cut(path, base: dict, subs: list[dict]) -> list[np.ndarray]:
-    """The base polygon (nusselt orientation) minus its subsurfaces, as simple polygons."""
-    bpoly = base["poly"]
-    try:
-        frame = _planar.PlaneFrame(bpoly)
-    except ValueError:
-        raise parse_error(path, base["where"], f"{base['label']} has zero area but has windows or doors") from None
-    size = frame.size
-    b2 = frame.to2d(bpoly)
-    convex = _planar.is_convex_2d(b2, 1e-9 * size * size)
-    if convex:
-        parts = [b2]
-    else:
-        try:
-            parts = _triangulate_2d(b2)
-        except ValueError:
-            raise parse_error(path, base["where"], f"{base['label']} is not a simple polygon") from None
-    holes: list[tuple[dict, np.ndarray]] = []
-    for s in subs:
-        what = f"{s['label']} (on {base['label']})"
-        dist = float(np.max(np.abs(frame.height(s["poly"]))))
-        if dist > 1e-4 * size:
-            raise parse_error(
-                path, s["where"], f"{what} is not in the plane of its base surface (a vertex is {dist:.3g} m from it)"
-            )
-        q = frame.to2d(s["poly"])
-        a = _planar.signed_area_2d(q)
-        if a <= 0:
-            raise parse_error(
-                path,
-                s["where"],
-                f"{what} faces the opposite way to its base surface "
-                "(its vertices must go round in the same sense as the base's)"
-                if a < 0
-                else f"{what} has zero area",
-            )
-        if not _planar.is_convex_2d(q, 1e-9 * size * size):
-            raise parse_error(path, s["where"], f"{what} is not convex")
-        inside = sum(_planar.convex_intersection_area(q, t) for t in parts)
-        if inside < (1 - 1e-6) * a:
-            raise parse_error(
-                path,
-                s["where"],
-                f"{what} is not inside its base surface ({100 * (1 - inside / a):.3g}% of it lies outside)",
-            )
-        for other, q2 in holes:
-            ov = _planar.convex_intersection_area(q, q2)
-            if ov > 1e-9 * min(a, _planar.signed_area_2d(q2)):
-                raise parse_error(path, s["where"], f"{what} overlaps {other['label']}")
-        holes.append((s, q))
-    if not holes:
-        return [bpoly]
-    pieces = []
-    for t in parts:
-        pieces.extend(_planar.subtract_convex_holes(t, [q for _, q in holes], size))
-    return [frame.to3d(p) for p in pieces]
+    """The base polygon (nusselt orientation) minus its subsurfaces, as convex polygons."""
+    holes = [_planar.Hole(s["poly"], s["where"], f"{s['label']} (on {base['label']})", s["label"]) for s in subs]
+    return _planar.cut_holes(
+        base["poly"],
+        holes,
+        _CUT_RULES,
+        where=base["where"],
+        label=base["label"],
+        fail=lambda where, problem: parse_error(path, where, problem),
+    )
 
 
 def read_energyplus(path) -> SceneData:

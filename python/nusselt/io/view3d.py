@@ -68,15 +68,6 @@ def _strip_comment(line: str) -> str:
     return line.strip()
 
 
-def _cos_sin_deg(deg: float) -> tuple[float, float]:
-    """cos and sin of an angle in degrees, exact at multiples of 90 degrees."""
-    q = deg / 90.0
-    if q == round(q):
-        return [(1.0, 0.0), (0.0, 1.0), (-1.0, 0.0), (0.0, -1.0)][int(round(q)) % 4]
-    r = math.radians(deg)
-    return math.cos(r), math.sin(r)
-
-
 def local_plane_axes(azimuth: float, tilt: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Local axes of a View3D ``F 3a`` surface plane.
 
@@ -94,8 +85,8 @@ def local_plane_axes(azimuth: float, tilt: float) -> tuple[np.ndarray, np.ndarra
     so that e_x x e_y = n and a counter-clockwise local polygon faces along n.
     Local point (x, y) maps to origin + x e_x + y e_y (View3D's GetVS3Da transformation).
     """
-    ca, sa = _cos_sin_deg(azimuth)
-    ct, st = _cos_sin_deg(tilt)
+    ca, sa = _planar.cos_sin_deg(azimuth)
+    ct, st = _planar.cos_sin_deg(tilt)
     ex = np.array([-ca, sa, 0.0])
     ey = np.array([-ct * sa, -ct * ca, st])
     n = np.array([st * sa, st * ca, ct])
@@ -415,62 +406,40 @@ def _check_references(surfaces: list[_Surface], err) -> None:
                 )
 
 
+#: View3D's rules for sub-surfaces, masks and null surfaces (all convex, base convex too).
+_CUT_RULES = _planar.CutRules(
+    plane_tol=1e-5,
+    concave_base=False,
+    messages={
+        "zero_base": "{base} has zero area but has sub-surfaces",
+        "concave_base": "{base} has sub-surfaces but is not convex (View3D surfaces must be convex)",
+        "off_plane": "{what} is not in the plane of its base surface {number} (a vertex is {dist:.3g} from that plane)",
+        "zero_area": "{what} has zero area",
+        "wrong_way": "{what} must face the same way as its base {number}",
+        "wrong_way_reversed": "{what} must face the opposite way to its base surface {number} "
+        "(View3D convention: list its vertices in the reverse order)",
+        "not_convex": "{what} is not convex (View3D surfaces must be convex)",
+        "outside": "{what} is not inside its base surface {number} ({pct:.3g}% of it lies outside)",
+        "overlap": "{what} overlaps {other} on the same base {number}",
+    },
+)
+
+
 def _cut_holes(base: _Surface, holes: list[_Surface], err) -> list[np.ndarray]:
     """The base's polygon minus its sub-surfaces, masks and null surfaces, as convex pieces."""
-    try:
-        frame = _planar.PlaneFrame(base.coords)
-    except ValueError:
-        raise err(base.line, f"{_KIND_WORD[base.kind]} {base.number} has zero area but has sub-surfaces") from None
-    size = frame.size
-    b2 = frame.to2d(base.coords)
-    if not _planar.is_convex_2d(b2, 1e-9 * size * size):
-        raise err(
-            base.line,
-            f"{_KIND_WORD[base.kind]} {base.number} has sub-surfaces but is not convex "
-            "(View3D surfaces must be convex)",
-        )
-    h2s: list[tuple[_Surface, np.ndarray]] = []
+    cut = []
     for h in holes:
         what = f"sub-surface {h.number}" if h.kind == "S" else f"{_KIND_WORD[h.kind]} {h.number}"
-        dist = np.max(np.abs(frame.height(h.coords)))
-        if dist > 1e-5 * size:
-            raise err(
-                h.line,
-                f"{what} is not in the plane of its base surface {base.number} "
-                f"(a vertex is {dist:.3g} from that plane)",
-            )
-        q = frame.to2d(h.coords)
-        a = _planar.signed_area_2d(q)
-        if a == 0:
-            raise err(h.line, f"{what} has zero area")
-        facing_same = a > 0
-        if h.kind == "S" and not facing_same:
-            raise err(h.line, f"sub-surface {h.number} must face the same way as its base {base.number}")
-        if h.kind in "MN" and facing_same:
-            raise err(
-                h.line,
-                f"{_KIND_WORD[h.kind]} {h.number} must face the opposite way to its base "
-                f"surface {base.number} (View3D convention: list its vertices in the reverse order)",
-            )
-        if a < 0:
-            q = q[::-1].copy()
-        if not _planar.is_convex_2d(q, 1e-9 * size * size):
-            raise err(h.line, f"{what} is not convex (View3D surfaces must be convex)")
-        inside = _planar.convex_intersection_area(q, b2)
-        if inside < (1 - 1e-6) * abs(a):
-            raise err(
-                h.line,
-                f"{what} is not inside its base surface {base.number} "
-                f"({100 * (1 - inside / abs(a)):.3g}% of it lies outside)",
-            )
-        for g, q2 in h2s:
-            ov = _planar.convex_intersection_area(q, q2)
-            if ov > 1e-9 * min(abs(a), _planar.signed_area_2d(q2)):
-                other = f"sub-surface {g.number}" if g.kind == "S" else f"{_KIND_WORD[g.kind]} {g.number}"
-                raise err(h.line, f"{what} overlaps {other} on the same base {base.number}")
-        h2s.append((h, q))
-    pieces = _planar.subtract_convex_holes(b2, [q for _, q in h2s], size)
-    return [frame.to3d(p) for p in pieces]
+        cut.append(_planar.Hole(h.coords, h.line, what, what, reversed=h.kind in "MN"))
+    return _planar.cut_holes(
+        base.coords,
+        cut,
+        _CUT_RULES,
+        where=base.line,
+        label=f"{_KIND_WORD[base.kind]} {base.number}",
+        number=base.number,
+        fail=err,
+    )
 
 
 def _build(path, geometry, title, controls, surfaces, err) -> SceneData:
