@@ -17,7 +17,7 @@ import nusselt
 import nusselt.data
 import nusselt.io as nio
 from nusselt.cli import main
-from nusselt.render import colormap, render, value_range, write_png
+from nusselt.render import Camera, colormap, render, value_range, write_png
 
 
 def read_png(path):
@@ -54,7 +54,8 @@ def square(cx, cy, z, half):
 def test_render_colours_depth_and_png_roundtrip(tmp_path):
     far = square(0, 0, 10, 8)  # fills the view behind
     near = square(0, 0, 5, 0.5)  # small, in front, at the centre
-    img = render([far, near], [1e-2, 1.0], eye=(0, 0, 0), look=(0, 0, 1), up=(0, 1, 0), fov_deg=60, size=64)
+    camera = Camera(eye=(0, 0, 0), look=(0, 0, 1), up=(0, 1, 0), fov_deg=60, size=64)
+    img = render([far, near], [1e-2, 1.0], camera)
     assert img.shape[0] == 64 and img.shape[1] > 64 + 32  # picture, then the colour bar and its labels
     assert (img[:, 64 + 32 :] == 255).all(axis=2).sum() > 20  # white tick labels drawn beside the bar
     to8 = lambda c: np.round(np.clip(c, 0, 1) * 255).astype(int)
@@ -62,7 +63,7 @@ def test_render_colours_depth_and_png_roundtrip(tmp_path):
     assert np.abs(centre - to8(colormap(1.0))).max() <= 1  # near square: top of the scale
     assert np.abs(corner - to8(colormap(0.0))).max() <= 1  # far square: 2 decades down = bottom
     # z-buffer: drawing order does not matter
-    img2 = render([near, far], [1.0, 1e-2], eye=(0, 0, 0), look=(0, 0, 1), up=(0, 1, 0), fov_deg=60, size=64)
+    img2 = render([near, far], [1.0, 1e-2], camera)
     np.testing.assert_array_equal(img, img2)
     path = tmp_path / "x.png"
     write_png(path, img)

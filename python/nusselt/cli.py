@@ -35,13 +35,14 @@ def _parse_options(pairs: list[str]) -> dict:
 def cmd_demo(args) -> int:
     """The bundled Cornell box with its two blocks: the surface matrix (obstructed, auto) and a
     picture of every patch coloured by its form factor to the light."""
+    import dataclasses
     import os
     import time
 
     import numpy as np
 
     from .api import form_factors
-    from .render import render, value_range, write_png
+    from .render import CORNELL, render, value_range, write_png
     from .scene import Scene
 
     base = cornell_box()
@@ -79,18 +80,8 @@ def cmd_demo(args) -> int:
         f"Light row on {len(fine)} patches (edges <= {args.refine:g} mm): sum {f_light.sum():.8f}, "
         f"differs from the surface row by {check:.1e} (additivity) ({t2 - t1:.1f} s)"
     )
-    image = render(
-        polys,
-        f_to_light,
-        eye=(278.0, 273.0, -800.0),
-        look=(0.0, 0.0, 1.0),
-        up=(0.0, 1.0, 0.0),
-        fov_deg=39.3,
-        size=args.size,
-        label="F to light",
-        smooth=True,
-        groups=fine.surface,
-    )
+    camera = dataclasses.replace(CORNELL, size=args.size)
+    image = render(polys, f_to_light, camera, label="F to light", smooth=True, groups=fine.surface)
     out = os.path.abspath(args.output)
     write_png(out, image)
     lo, hi = value_range(f_to_light)
@@ -101,7 +92,7 @@ def cmd_demo(args) -> int:
     from .cli_radiation import colour_picture
 
     colour = os.path.splitext(out)[0] + "_colour.png"
-    print(colour_picture(fine, colour, eye=(278.0, 273.0, -800.0), size=args.size))
+    print(colour_picture(fine, colour, camera))
     return 0
 
 
