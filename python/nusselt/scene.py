@@ -478,7 +478,9 @@ class Scene:
     def refined(self, max_edge: float) -> Scene:
         """A finer mesh of the same surfaces: every quadrilateral split bilinearly into k x m
         quads and every other polygon fan-triangulated and each triangle split into k^2, so
-        that no edge is longer than ``max_edge``. Surface names and obstruction flags carry over."""
+        that no edge is longer than ``max_edge``. Surface names and obstruction flags carry over.
+        Obstruction-only polygons are kept whole: they get no row or column, so tiles would
+        only add work (a large ground plane would become millions of them) and block the same."""
         if isinstance(max_edge, (bool, np.bool_)) or not isinstance(max_edge, (int, float, np.integer, np.floating)):
             raise TypeError(f"max_edge must be a number, got {max_edge!r}")
         if not (np.isfinite(max_edge) and max_edge > 0):
@@ -493,6 +495,9 @@ class Scene:
 
         for k, f in enumerate(self.faces):
             v = self.vertices[f]
+            if self.obstruction[k]:
+                emit(v, k)
+                continue
             if len(v) == 4 and _is_convex(v, self.normals[k]):
                 nu = max(1, int(np.ceil(max(np.linalg.norm(v[1] - v[0]), np.linalg.norm(v[2] - v[3])) / max_edge)))
                 nv = max(1, int(np.ceil(max(np.linalg.norm(v[3] - v[0]), np.linalg.norm(v[2] - v[1])) / max_edge)))
