@@ -40,8 +40,11 @@ from . import _planar
 from .scenedata import SceneData, check_readable, parse_error
 
 _INT_CONTROLS = {"maxu", "maxo", "mino", "row", "col", "encl", "emit", "out", "list", "prjd", "maxv"}
-# View3D 3.2's control words (getdat.c GetCtrl) and what nusselt does with them.
+# View3D 3.2's control words (getdat.c GetCtrl) and what nusselt does with them: honoured,
+# accepted silently (``list``, the detail of View3D's log, bears on no result and is in most
+# files EnergyPlus's tools write), or ignored with a warning saying what View3D would do.
 _HONOURED = {"encl", "emit"}
+_SILENT = {"list"}
 _ALGORITHM_CONTROLS = {
     "eps": "View3D's adaptive-integration convergence limit; nusselt's methods are exact or take their own "
     "tolerances (e.g. --option obstructed_tol=...)",
@@ -49,7 +52,6 @@ _ALGORITHM_CONTROLS = {
     "maxo": "View3D's recursion limit for obstructed pairs; not used by nusselt",
     "mino": "View3D's minimum recursions for obstructed pairs; not used by nusselt",
     "prjd": "View3D's projection-direction switch; not used by nusselt",
-    "list": "View3D's log detail; not used by nusselt",
     "row": "View3D then computes only that row (and prints it to its log); nusselt computes the whole matrix",
     "col": "View3D then computes only that entry; nusselt computes the whole matrix",
     "out": "View3D's output format; nusselt's output format follows the output file's extension",
@@ -196,7 +198,7 @@ def read_view3d(path: str) -> SceneData:
                 raise err(no, f"control {words[-1]!r} has no value (write name=value)")
             for name, value in zip(words[::2], words[1::2]):
                 key = name.lower()
-                if key not in _HONOURED and key not in _ALGORITHM_CONTROLS:
+                if key not in _HONOURED and key not in _SILENT and key not in _ALGORITHM_CONTROLS:
                     # View3D warns "Invalid control word" and goes on (getdat.c GetCtrl)
                     warnings.warn(
                         f"{path}, line {no}: control {name}={value} is not a View3D 3.2 control "
@@ -209,9 +211,7 @@ def read_view3d(path: str) -> SceneData:
                     controls[name] = as_int(value, no, f"control {name}")
                 else:
                     controls[name] = as_float(value, no, f"control {name}")
-                if key in _ALGORITHM_CONTROLS and not (
-                    key in ("row", "col", "out", "list", "prjd") and controls[name] == 0
-                ):
+                if key in _ALGORITHM_CONTROLS and not (key in ("row", "col", "out", "prjd") and controls[name] == 0):
                     warnings.warn(
                         f"{path}, line {no}: control {name}={value} ignored: {_ALGORITHM_CONTROLS[key]}", stacklevel=2
                     )
