@@ -5,10 +5,10 @@ from __future__ import annotations
 
 import struct
 import zlib
-from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
+import numpy.typing as npt
 
 # A perceptually ordered colour map (samples of matplotlib's "inferno"), interpolated linearly.
 _INFERNO = np.array(
@@ -42,9 +42,9 @@ class Camera:
     along ``look``), the field of view ``fov_deg`` (degrees, across the picture) and a square
     picture of ``size`` x ``size`` pixels."""
 
-    eye: Sequence[float]
-    look: Sequence[float] = (0.0, 0.0, 1.0)
-    up: Sequence[float] = (0.0, 1.0, 0.0)
+    eye: npt.ArrayLike
+    look: npt.ArrayLike = (0.0, 0.0, 1.0)
+    up: npt.ArrayLike = (0.0, 1.0, 0.0)
     fov_deg: float = 39.3
     size: int = 512
 
@@ -135,7 +135,7 @@ def rasterise(polygons, colours, camera: Camera, *, background=(0.0, 0.0, 0.0)) 
     per polygon or per vertex."""
     eye = np.asarray(camera.eye, float)
     fwd = np.asarray(camera.look, float) / np.linalg.norm(camera.look)
-    right = np.cross(fwd, camera.up)
+    right = np.cross(fwd, np.asarray(camera.up, float))
     right /= np.linalg.norm(right)
     upv = np.cross(right, fwd)
     size = camera.size
