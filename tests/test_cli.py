@@ -279,17 +279,9 @@ def test_sigkill_halfway_then_resume_gives_the_identical_matrix(tmp_path):
     try:
         deadline = time.time() + 300
         while time.time() < deadline and p.poll() is None:
-            manifest = partial / "manifest.json"
-            if manifest.exists():
-                total = __import__("json").loads(manifest.read_text())["blocks"]
-                done = len(
-                    [
-                        f
-                        for f in os.listdir(partial)
-                        if f.startswith("block_") and f.endswith(".npz") and ".tmp" not in f
-                    ]
-                )
-                if done >= total // 2:
+            if partial.is_dir():
+                done = [f for f in os.listdir(partial) if f.startswith("block_") and f.endswith(".npz")]
+                if len(done) >= 3:  # blocks grow: the third ends well before half of the run
                     break
             time.sleep(0.05)
         assert p.poll() is None, "the run finished before it could be killed"
@@ -298,7 +290,12 @@ def test_sigkill_halfway_then_resume_gives_the_identical_matrix(tmp_path):
         p.wait()
     assert not out.exists()
     kept = sorted(f for f in os.listdir(partial) if f.startswith("block_"))
-    assert 0 < len(kept) < total
+    rows = 0
+    for f in kept:
+        with np.load(partial / f) as z:
+            meta = __import__("json").loads(str(z["meta"]))
+        rows += meta["stop"] - meta["start"]
+    assert 0 < rows < 1944  # some rows finished, not all
 
     # without --resume the interrupted run is not silently overwritten
     again = subprocess.run(cmd + ["-o", str(out)], capture_output=True, text=True)

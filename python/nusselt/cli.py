@@ -203,10 +203,16 @@ def cmd_matrix(args) -> int:
             **zone_opts,
             **opts,
         )
-    except BaseException:
+    except BaseException as e:
         # keep finished blocks for --resume; a run that finished none leaves nothing behind
-        if os.path.isdir(partial) and not any(f.startswith("block_") for _, _, fs in os.walk(partial) for f in fs):
+        kept = sum(f.startswith("block_") for _, _, fs in os.walk(partial) for f in fs) if os.path.isdir(partial) else 0
+        if os.path.isdir(partial) and not kept:
             shutil.rmtree(partial, ignore_errors=True)
+        if isinstance(e, KeyboardInterrupt) and kept:
+            raise KeyboardInterrupt(
+                f"interrupted; {kept} finished block(s) are kept in {partial}: "
+                "run the same command with --resume to continue"
+            ) from None
         raise
     if args.correct:
         res = _corrected(res, closure=args.correct == "closure")
@@ -396,7 +402,8 @@ def build_parser() -> argparse.ArgumentParser:
         type=int,
         default=2_000_000,
         metavar="N",
-        help="work per checkpointed block: pairs (pair methods) or row entries (row methods)",
+        help="the most work per block: pairs (pair methods) or row entries (row methods); blocks are "
+        "sized from the measured speed to take about half a second each, up to this",
     )
     m.add_argument(
         "--float32",
@@ -473,8 +480,8 @@ def main(argv: list[str] | None = None) -> int:
             warnings.simplefilter("always")
             warnings.showwarning = _show_warning
             return args.func(args)
-    except KeyboardInterrupt:
-        print("nusselt: interrupted", file=sys.stderr)
+    except KeyboardInterrupt as e:
+        print(f"nusselt: {' '.join(str(e).split()) or 'interrupted'}", file=sys.stderr)
         return 130
     except (ValueError, TypeError, OSError, MemoryError) as e:
         msg = " ".join(str(e).split()) or type(e).__name__  # one line
