@@ -11,7 +11,7 @@ from ._core import __version__
 from .api import form_factors, point_view_factor, view_factor
 from .checks import ZeroRowWarning
 from .io import load_npz, read_scene
-from .methods import METHODS
+from .methods import METHODS, MethodName
 from .result import FormFactors
 from .scene import NusseltWarning, OrientationWarning, RepairWarning, Scene
 from .sensors import point_view_factors
@@ -20,6 +20,7 @@ __all__ = [
     "Scene",
     "FormFactors",
     "METHODS",
+    "MethodName",
     "form_factors",
     "view_factor",
     "point_view_factor",
