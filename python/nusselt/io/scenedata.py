@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+from collections.abc import Iterator
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -38,6 +39,29 @@ def check_readable(path: str) -> None:
         raise PermissionError(f"{path}: permission denied")
     if os.path.getsize(path) == 0:
         raise parse_error(path, None, "the file is empty")
+
+
+#: The longest line a text reader accepts (16 MiB: a face of over a million vertices). A longer
+#: one is damage or not a scene file, refused before it is held in memory.
+MAX_LINE_BYTES = 1 << 24
+
+
+def text_lines(path: str, kind: str) -> Iterator[tuple[int, str]]:
+    """(line number, text) of a text file, read line by line (the file is never held whole)
+    and decoded as UTF-8 (bad bytes replaced); a NUL byte (a binary file) or a line longer
+    than :data:`MAX_LINE_BYTES` is refused with a ValueError naming the file and line."""
+    with open(path, "rb") as fh:
+        no = 0
+        while raw := fh.readline(MAX_LINE_BYTES + 1):
+            if len(raw) > MAX_LINE_BYTES and not raw.endswith(b"\n"):
+                raise parse_error(
+                    path, f"line {no + 1}", f"longer than {MAX_LINE_BYTES >> 20} MiB: damaged, or not a {kind} file"
+                )
+            if b"\0" in raw:
+                raise parse_error(path, f"line {no + 1}", f"this is a binary file, not a {kind} file (a NUL byte)")
+            for line in raw.decode("utf-8", errors="replace").splitlines() or [""]:
+                no += 1  # splitlines: CR-only line ends count too, as for str.splitlines
+                yield no, line
 
 
 @dataclass
