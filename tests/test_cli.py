@@ -307,3 +307,29 @@ def test_sigkill_halfway_then_resume_gives_the_identical_matrix(tmp_path):
     for key in ("indptr", "indices", "data"):
         np.testing.assert_array_equal(getattr(a["matrix"], key), getattr(b["matrix"], key))
     np.testing.assert_array_equal(a["areas"], b["areas"])
+
+
+_CTRL_C_ON_IMPORT = """
+import sys
+class CtrlC:  # Ctrl-C arrives while nusselt's modules load, before the command's main() runs
+    def find_spec(self, name, path=None, target=None):
+        if name == "nusselt.exchange":
+            raise KeyboardInterrupt
+sys.meta_path.insert(0, CtrlC())
+sys.argv[0] = ARGV0
+from nusselt.cli import main
+sys.exit(main(["methods"]))
+"""
+
+
+def test_ctrl_c_while_the_command_starts_is_a_quiet_exit_130():
+    def run(argv0):
+        code = _CTRL_C_ON_IMPORT.replace("ARGV0", repr(argv0))
+        return subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+
+    r = run(os.path.join("venv", "bin", "nusselt"))  # as the console script runs
+    assert r.returncode == 130
+    assert r.stderr == "nusselt: interrupted\n"
+    # a program that imports nusselt gets its KeyboardInterrupt as usual
+    r = run("analysis.py")
+    assert r.returncode != 0 and "KeyboardInterrupt" in r.stderr and "Traceback" in r.stderr

@@ -470,6 +470,14 @@ def _show_warning(message, category, filename, lineno, file=None, line=None) -> 
 
 
 def main(argv: list[str] | None = None) -> int:
+    try:
+        return _run(argv)
+    except KeyboardInterrupt as e:  # at any point of the command, parsing included
+        print(f"nusselt: {' '.join(str(e).split()) or 'interrupted'}", file=sys.stderr)
+        return 130
+
+
+def _run(argv: list[str] | None) -> int:
     parser = build_parser()
     if not (sys.argv[1:] if argv is None else argv):
         parser.print_help()  # no command: the help, not an argparse error
@@ -480,9 +488,6 @@ def main(argv: list[str] | None = None) -> int:
             warnings.simplefilter("always")
             warnings.showwarning = _show_warning
             return args.func(args)
-    except KeyboardInterrupt as e:
-        print(f"nusselt: {' '.join(str(e).split()) or 'interrupted'}", file=sys.stderr)
-        return 130
     except (ValueError, TypeError, OSError, MemoryError) as e:
         msg = " ".join(str(e).split()) or type(e).__name__  # one line
         if isinstance(e, MemoryError):
