@@ -674,8 +674,6 @@ def _build(path: str, objs: list[_Obj], dialect: str) -> SceneData:
         faces=faces,
         surface=np.array(surface, dtype=np.int64),
         names=names,
-        obstruction=np.zeros(len(faces), dtype=bool),
-        emissivity=None,
         origin=origin,
         source=path,
         meta=meta,

@@ -174,8 +174,6 @@ def read_obj(path: str) -> SceneData:
         faces=[np.array(f, dtype=np.int64) for f in faces],
         surface=np.array([remap[s] for s in face_surface], dtype=np.int64),
         names=[all_names[old] for old in used],
-        obstruction=np.zeros(len(faces), dtype=bool),
-        emissivity=None,
         origin=origin,
         source=path,
         meta={"format": "obj"},

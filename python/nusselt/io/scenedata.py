@@ -64,7 +64,7 @@ def text_lines(path: str, kind: str) -> Iterator[tuple[int, str]]:
                 yield no, line
 
 
-@dataclass
+@dataclass(kw_only=True)
 class SceneData:
     """Polygons with named surfaces, as read from a file.
 
@@ -78,9 +78,10 @@ class SceneData:
     names : list of str
         Surface names, unique.
     obstruction : (F,) bool
-        Polygons that block radiation but get no row or column.
+        Polygons that block radiation but get no row or column (default: none).
     emissivity : (len(names),) float64 or None
-        Per named surface (NaN where the file gives none, e.g. obstruction-only surfaces).
+        Per named surface (NaN where the file gives none, e.g. obstruction-only surfaces);
+        None (the default) when the format has none.
     origin : list of str
         Where each polygon came from, for error messages ("line 17", "cell 42").
     source : str
@@ -94,10 +95,10 @@ class SceneData:
     faces: list
     surface: np.ndarray
     names: list
-    obstruction: np.ndarray
-    emissivity: np.ndarray | None
     origin: list
     source: str
+    obstruction: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=bool))
+    emissivity: np.ndarray | None = None
     meta: dict = field(default_factory=dict)
 
     def __post_init__(self) -> None:
@@ -110,6 +111,8 @@ class SceneData:
             raise parse_error(src, None, "the file defines no polygons")
         self.surface = np.asarray(self.surface, dtype=np.int64).ravel()
         self.obstruction = np.asarray(self.obstruction, dtype=bool).ravel()
+        if not self.obstruction.size:  # not given (the default): nothing is obstruction-only
+            self.obstruction = np.zeros(nf, dtype=bool)
         self.names = [str(n) for n in self.names]
         self.origin = [str(o) for o in self.origin]
         if self.surface.shape != (nf,) or self.obstruction.shape != (nf,) or len(self.origin) != nf:
