@@ -183,7 +183,19 @@ def read_view3d(path: str) -> SceneData:
     vertices: list[tuple[float, float, float]] = []
     vertex_line: list[int] = []
     surfaces: list[_Surface] = []
+    surface_line: list[int] = []
     first_obstruction: _Surface | None = None
+
+    def check_next(no: int, n: int, word: str, lines: list[int], series: str) -> None:
+        """Vertices and surfaces are numbered 1, 2, 3 ... in order; ``lines`` holds where each so far is."""
+        if 1 <= n <= len(lines):
+            raise err(no, f"{word} {n} is defined twice (first on line {lines[n - 1]})")
+        if n != len(lines) + 1:
+            raise err(
+                no,
+                f"{word} {n} out of sequence: expected {word} {len(lines) + 1} "
+                f"(View3D numbers {series} 1, 2, 3 ... in order)",
+            )
 
     i = 0
     while i < len(records):
@@ -223,28 +235,14 @@ def read_view3d(path: str) -> SceneData:
             if len(toks) < 5:
                 raise err(no, f"a vertex record needs 'V n x y z', got {text!r}")
             n = as_int(toks[1], no, "vertex number")
-            if 1 <= n <= len(vertices):
-                raise err(no, f"vertex {n} is defined twice (first on line {vertex_line[n - 1]})")
-            if n != len(vertices) + 1:
-                raise err(
-                    no,
-                    f"vertex {n} out of sequence: expected vertex {len(vertices) + 1} "
-                    "(View3D numbers vertices 1, 2, 3 ... in order)",
-                )
+            check_next(no, n, "vertex", vertex_line, "vertices")
             vertices.append(tuple(as_float(t, no, f"coordinate of vertex {n}") for t in toks[2:5]))
             vertex_line.append(no)
         elif c in "SMNO":
             if len(toks) < 2:
                 raise err(no, f"{_KIND_WORD[c]} record without a surface number")
             n = as_int(toks[1], no, "surface number")
-            if 1 <= n <= len(surfaces):
-                raise err(no, f"surface {n} is defined twice (first on line {surfaces[n - 1].line})")
-            if n != len(surfaces) + 1:
-                raise err(
-                    no,
-                    f"surface {n} out of sequence: expected surface {len(surfaces) + 1} "
-                    "(View3D numbers S, M, N and O surfaces 1, 2, 3 ... in order)",
-                )
+            check_next(no, n, "surface", surface_line, "S, M, N and O surfaces")
             if c != "O" and first_obstruction is not None:
                 raise err(
                     no,
@@ -315,6 +313,7 @@ def read_view3d(path: str) -> SceneData:
             if c == "O" and first_obstruction is None:
                 first_obstruction = s
             surfaces.append(s)
+            surface_line.append(s.line)
         else:
             raise err(no, f"unknown record {toks[0]!r} (View3D records: T C F V S M N O X E)")
 
