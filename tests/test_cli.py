@@ -313,7 +313,7 @@ _CTRL_C_ON_IMPORT = """
 import sys
 class CtrlC:  # Ctrl-C arrives while nusselt's modules load, before the command's main() runs
     def find_spec(self, name, path=None, target=None):
-        if name == "nusselt.exchange":
+        if name == "nusselt.api":  # one of the modules `import nusselt` loads
             raise KeyboardInterrupt
 sys.meta_path.insert(0, CtrlC())
 sys.argv[0] = ARGV0

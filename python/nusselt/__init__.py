@@ -46,6 +46,7 @@ def __getattr__(name: str) -> Any:
         return importlib.import_module(".sensors", __name__).point_view_factors
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
+
 __all__ = [
     "Scene",
     "FormFactors",
