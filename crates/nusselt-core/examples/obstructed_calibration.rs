@@ -5,7 +5,8 @@
 //! by `clipping` at tol 1e-11 with 2 million evaluations per integral, kept in the file REFS
 //! (computed once). For each TOL: `auto` at that `obstructed_tol`, the error relative to
 //! tol x the pair's unobstructed G (what tol bounds): quantiles, the share in [1/30, 1], the
-//! number above 1, and the CPU time per pair (this thread).
+//! number above 1, and the CPU time per pair (this thread). NUSSELT_MAXEVALS=N sets `max_evals`;
+//! NUSSELT_WORST=1 lists the pairs above their target.
 use nusselt_core::method::{self, Facing, Method};
 use nusselt_core::obstructed::{self, Context, VisMethod, VisOptions};
 use nusselt_core::visibility::{Bvh, Occluders, Visibility};
@@ -82,7 +83,10 @@ fn main() {
     };
     let frees: Vec<f64> = pairs.iter().map(|&(i, j, _)| free(i, j)).collect();
     for tol in tols {
-        let o = VisOptions { tol, exact_tol: 1e-12, ..Default::default() };
+        let mut o = VisOptions { tol, exact_tol: 1e-12, ..Default::default() };
+        if let Some(m) = std::env::var("NUSSELT_MAXEVALS").ok().and_then(|s| s.parse().ok()) {
+            o.max_evals = m;
+        }
         let wall = Instant::now();
         let t0 = cpu_seconds(&wall);
         let got: Vec<f64> =
@@ -93,6 +97,14 @@ fn main() {
         r.sort_by(|a, b| a.total_cmp(b));
         let at = |q: f64| r[((r.len() as f64 * q) as usize).min(r.len() - 1)];
         let inside = r.iter().filter(|&&x| (1.0 / 30.0..=1.0).contains(&x)).count();
+        if std::env::var("NUSSELT_WORST").is_ok() {
+            for ((p, g), f) in pairs.iter().zip(&got).zip(&frees) {
+                let x = (g - p.2).abs() / (tol * f);
+                if x > 1.0 {
+                    println!("  pair {} {}: ratio {x:.2}, free G {f:.3e}, hidden {:.3}", p.0, p.1, 1.0 - p.2 / f);
+                }
+            }
+        }
         println!(
             "tol {tol:.0e}: {us:8.1} us/pair; error/(tol free) 5/25/50/75/95 % {:.1e} {:.1e} {:.1e} {:.1e} {:.1e} \
              max {:.2e}; in [1/30, 1] {:.1} %; above 1: {}",
