@@ -11,9 +11,9 @@
 
 use crate::error::{Error, Result};
 use crate::hemisphere::SourcePoints;
-use crate::method::Method;
 use crate::obstructed::VisMethod;
 use crate::scene::{AllOptions, AnyMethod, RowMethod};
+use crate::unobstructed::method::Method;
 use crate::work::DEFAULT_BUDGET;
 
 /// How a method computes a matrix.

@@ -302,12 +302,12 @@ fn shadowed_convex(p: Vec3, n: Vec3, cast: &Cast) -> Option<f64> {
     if !is_convex(&cast.rec2) {
         return None;
     }
-    let free = || crate::analytic::point_contour(p, n, &cast.rec).max(0.0);
+    let free = || crate::unobstructed::analytic::point_contour(p, n, &cast.rec).max(0.0);
     // Lambert over a 2-D piece, through the buffer `piece3` for its 3-D outline
     let lambert = |piece: &[[f64; 2]], piece3: &mut Vec<Vec3>| {
         piece3.clear();
         piece3.extend(piece.iter().map(|u| cast.frame.to3d(*u)));
-        crate::analytic::point_contour(p, n, piece3)
+        crate::unobstructed::analytic::point_contour(p, n, piece3)
     };
     SCRATCH.with(|cell| {
         let mut guard = cell.borrow_mut();
@@ -670,14 +670,16 @@ pub fn point_visible_view_factor(p: Vec3, n: Vec3, receiver: &Polygon, blockers:
     }
     let n = n.normalize();
     let convex = with_cast(p, n, receiver, blockers, |cast| {
-        shadowed_convex(p, n, cast).map(|hidden| (crate::analytic::point_contour(p, n, &cast.rec) - hidden).max(0.0))
+        shadowed_convex(p, n, cast)
+            .map(|hidden| (crate::unobstructed::analytic::point_contour(p, n, &cast.rec) - hidden).max(0.0))
     });
     match convex {
         None => 0.0,
         Some(Some(f)) => f,
-        Some(None) => {
-            visible_part(p, n, receiver, blockers).iter().map(|c| crate::analytic::point_contour(p, n, c)).sum()
-        }
+        Some(None) => visible_part(p, n, receiver, blockers)
+            .iter()
+            .map(|c| crate::unobstructed::analytic::point_contour(p, n, c))
+            .sum(),
     }
 }
 
@@ -703,7 +705,7 @@ pub fn point_free_and_shadowed(p: Vec3, n: Vec3, receiver: &Polygon, blockers: &
     }
     let n = n.normalize();
     with_cast(p, n, receiver, blockers, |cast| {
-        (crate::analytic::point_contour(p, n, &cast.rec).max(0.0), shadowed(p, n, cast))
+        (crate::unobstructed::analytic::point_contour(p, n, &cast.rec).max(0.0), shadowed(p, n, cast))
     })
     .unwrap_or((0.0, 0.0))
 }
@@ -718,8 +720,8 @@ fn shadowed(p: Vec3, n: Vec3, cast: &Cast) -> f64 {
 /// [`point_shadowed_view_factor`] by the general boolean: Lambert over the clipped receiver
 /// minus Lambert over what is left after subtracting the union of the shadows.
 fn shadowed_boolean(p: Vec3, n: Vec3, cast: &Cast) -> f64 {
-    let lit: f64 = difference(cast).iter().map(|c| crate::analytic::point_contour(p, n, c)).sum();
-    (crate::analytic::point_contour(p, n, &cast.rec) - lit).max(0.0)
+    let lit: f64 = difference(cast).iter().map(|c| crate::unobstructed::analytic::point_contour(p, n, c)).sum();
+    (crate::unobstructed::analytic::point_contour(p, n, &cast.rec) - lit).max(0.0)
 }
 
 /// Shoelace area of a 2-D contour (positive counter-clockwise).
