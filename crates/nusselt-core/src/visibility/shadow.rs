@@ -372,7 +372,7 @@ fn shadowed_convex(p: Vec3, n: Vec3, cast: &Cast) -> Option<f64> {
                 cut |= subtract_convex(pieces.get(i), s, split, a, b, c);
             }
             std::mem::swap(pieces, split);
-            if pieces.len() == 0 {
+            if pieces.is_empty() {
                 return Some(free());
             }
         }
