@@ -60,6 +60,7 @@ enum Visible {
 
 /// 2-D coordinates on the receiver's plane, relative to its centroid and in units of its
 /// radius (so the boolean sees the same numbers at any scale).
+#[derive(Default)]
 struct Frame {
     c: Vec3,
     r: f64,
@@ -78,20 +79,46 @@ impl Frame {
 }
 
 /// The clipped receiver seen from p and the blockers' shadows on its plane (steps 1-3 of
-/// [`visible_part`]), every shadow counter-clockwise in 2-D.
+/// [`visible_part`]), every shadow counter-clockwise in 2-D. Its buffers are kept per thread
+/// (see [`with_cast`]): a point evaluation then allocates nothing once they have grown.
+#[derive(Default)]
 struct Cast {
     frame: Frame,
     rec: Vec<Vec3>,
     rec2: Vec<[f64; 2]>,
-    shadows: Vec<Vec<[f64; 2]>>,
+    shadows: Pieces,
     /// The receiver's bounding box grown by 1 %: shadows are bounded by it for the boolean.
     window: ([f64; 2], [f64; 2]),
+    /// scratch: a blocker being clipped in 3-D, one shadow in 2-D
+    cur: Vec<Vec3>,
+    next: Vec<Vec3>,
+    s: Vec<[f64; 2]>,
 }
 
-/// None when nothing of the receiver is in view from p (n already normalised).
+thread_local! {
+    static CAST: RefCell<Cast> = RefCell::new(Cast::default());
+}
+
+/// `f` of the cast from p (see [`cast_into`]), in this thread's buffers (fresh ones if they are
+/// in use further up the stack); None when nothing of the receiver is in view from p.
+fn with_cast<R>(p: Vec3, n: Vec3, receiver: &Polygon, blockers: &[&Polygon], f: impl FnOnce(&Cast) -> R) -> Option<R> {
+    CAST.with(|cell| match cell.try_borrow_mut() {
+        Ok(mut c) => cast_into(p, n, receiver, blockers, &mut c).then(|| f(&c)),
+        Err(_) => cast(p, n, receiver, blockers).map(|c| f(&c)),
+    })
+}
+
+/// [`cast_into`] into new buffers.
 fn cast(p: Vec3, n: Vec3, receiver: &Polygon, blockers: &[&Polygon]) -> Option<Cast> {
+    let mut c = Cast::default();
+    cast_into(p, n, receiver, blockers, &mut c).then_some(c)
+}
+
+/// Steps 1-3 of [`visible_part`] into `out`; false when nothing of the receiver is in view
+/// from p (n already normalised).
+fn cast_into(p: Vec3, n: Vec3, receiver: &Polygon, blockers: &[&Polygon], out: &mut Cast) -> bool {
     if !p.is_finite() || !n.is_finite() || n == Vec3::ZERO {
-        return None;
+        return false;
     }
     let nr = receiver.normal();
     let c = receiver.centroid();
@@ -100,74 +127,92 @@ fn cast(p: Vec3, n: Vec3, receiver: &Polygon, blockers: &[&Polygon]) -> Option<C
     let scale = r + (p - c).length();
     let tol = 1e-13 * scale;
     if h_p <= tol {
-        return None;
+        return false;
     }
-    let mut rec = Vec::with_capacity(receiver.vertices().len() + 2);
-    clip_to_halfspace(receiver.vertices(), p, n, tol, &mut rec);
-    if rec.len() < 3 || newell_normal(&rec).dot(nr) <= 1e-14 * r * r {
-        return None;
+    let Cast { frame, rec, rec2, shadows, window, cur, next, s } = out;
+    clip_to_halfspace(receiver.vertices(), p, n, tol, rec);
+    if rec.len() < 3 || newell_normal(rec).dot(nr) <= 1e-14 * r * r {
+        return false;
     }
     let (tu, tv) = tangent_frame(nr);
-    let frame = Frame { c, r, tu, tv };
-    let mut rec2: Vec<[f64; 2]> = rec.iter().map(|x| frame.to2d(*x)).collect();
-    drop_close(&mut rec2);
+    *frame = Frame { c, r, tu, tv };
+    rec2.clear();
+    rec2.extend(rec.iter().map(|x| frame.to2d(*x)));
+    drop_close(rec2);
 
     // Window: the clipped receiver's 2-D bounding box, grown by 1 % of its size.
-    let (lo, hi) = bbox(&rec2);
+    let (lo, hi) = bbox(rec2);
     let m = 0.01 * (hi[0] - lo[0]).max(hi[1] - lo[1]);
     let (wlo, whi) = ([lo[0] - m, lo[1] - m], [hi[0] + m, hi[1] + m]);
+    *window = (wlo, whi);
     let win = [[wlo[0], wlo[1]], [whi[0], wlo[1]], [whi[0], whi[1]], [wlo[0], whi[1]]];
-    let win3: Vec<Vec3> = win.iter().map(|u| frame.to3d(*u)).collect();
+    let win3 = win.map(|u| frame.to3d(u));
     let centre = frame.to3d([0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1])]);
-    // Planes through p (point p, inward normal) bounding the pyramid p -> window.
-    let mut clip_planes: Vec<(Vec3, Vec3)> = Vec::with_capacity(7);
-    clip_planes.push((c, nr)); // receiver side of the receiver plane
-    clip_planes.push((p, n)); // front of the point's surface element
-    clip_planes.push((p - NEAR_P * h_p * nr, -nr)); // below p
+    // Half-spaces (point, inward normal): the receiver side of the receiver plane, the front
+    // of the point's surface element, below p; then the pyramid p -> window.
+    let mut clip_planes = [(c, nr), (p, n), (p - NEAR_P * h_p * nr, -nr), (p, n), (p, n), (p, n), (p, n)];
     for k in 0..4 {
         let mut pn = (win3[k] - p).cross(win3[(k + 1) % 4] - p);
         if pn.dot(centre - p) < 0.0 {
             pn = -pn;
         }
-        clip_planes.push((p, pn.normalize()));
+        clip_planes[3 + k] = (p, pn.normalize());
     }
     let project = |x: Vec3| {
         let depth = nr.dot(p - x); // > 0 after the clip below p
         frame.to2d(p + (x - p) * (h_p / depth))
     };
+    // Depth below p from which a shadow is the plain projection: at least 1e-3 h_p keeps the
+    // projected coordinates within 1e3 times the blocker's distance from p.
+    let deep = 1e-3 * h_p;
+    let misses = |s: &[[f64; 2]]| {
+        let (slo, shi) = bbox(s);
+        slo[0] > whi[0] || slo[1] > whi[1] || shi[0] < wlo[0] || shi[1] < wlo[1]
+    };
 
-    let mut shadows: Vec<Vec<[f64; 2]>> = Vec::new();
-    let mut cur: Vec<Vec3> = Vec::new();
-    let mut next: Vec<Vec3> = Vec::new();
+    shadows.clear();
     for b in blockers {
         let v = b.vertices();
         // Quick rejects: entirely on or behind the receiver plane, or behind p's plane.
         if v.iter().all(|x| nr.dot(*x - c) <= tol) || v.iter().all(|x| n.dot(*x - p) <= tol) {
             continue;
         }
-        // Usual case: the whole blocker lies between the planes, well below p (depth at
-        // least 1e-3 h_p keeps the projected coordinates within 1e3 receiver radii). Its
-        // shadow is then the plain projection, and the pyramid clip only matters when that
-        // leaves the window: a shadow missing the window is dropped without any clipping.
-        let plain = v.iter().all(|x| nr.dot(*x - c) >= 0.0 && n.dot(*x - p) >= 0.0 && nr.dot(p - *x) >= 1e-3 * h_p);
-        let mut s: Vec<[f64; 2]>;
+        // Usual case: the whole blocker lies between the planes, well below p. Its shadow is
+        // then the plain projection, and the pyramid clip only matters when that leaves the
+        // window: a shadow missing the window is dropped without any clipping. (A shadow
+        // reaching beyond the window is cut to it in 2-D by `difference` only if the boolean
+        // is needed: the convex path takes it as it is.) A blocker that crosses a plane is
+        // clipped to the three planes first, and to the pyramid only if it then still comes
+        // close to p's height.
+        let plain = v.iter().all(|x| nr.dot(*x - c) >= 0.0 && n.dot(*x - p) >= 0.0 && nr.dot(p - *x) >= deep);
+        s.clear();
         if plain {
-            s = v.iter().map(|x| project(*x)).collect();
-            let (slo, shi) = bbox(&s);
-            if slo[0] > whi[0] || slo[1] > whi[1] || shi[0] < wlo[0] || shi[1] < wlo[1] {
+            s.extend(v.iter().map(|x| project(*x)));
+            if misses(s) {
                 continue;
             }
-            // (a shadow reaching beyond the window is cut to it in 2-D by `difference` only
-            // if the boolean is needed: the convex path takes it as it is)
         } else {
-            clip_3d(v, &clip_planes, &mut cur, &mut next);
+            cur.clear();
+            cur.extend_from_slice(v);
+            clip_3d(&clip_planes[..3], cur, next);
             if cur.len() < 3 {
                 continue;
             }
-            s = cur.iter().map(|x| project(*x)).collect();
+            if cur.iter().all(|x| nr.dot(p - *x) >= deep) {
+                s.extend(cur.iter().map(|x| project(*x)));
+                if misses(s) {
+                    continue;
+                }
+            } else {
+                clip_3d(&clip_planes[3..], cur, next);
+                if cur.len() < 3 {
+                    continue;
+                }
+                s.extend(cur.iter().map(|x| project(*x)));
+            }
         }
-        drop_close(&mut s);
-        let a = signed_area(&s);
+        drop_close(s);
+        let a = signed_area(s);
         if !(a.abs() > 1e-15) || !a.is_finite() {
             continue; // edge-on blocker (its plane passes through p): no area
         }
@@ -176,14 +221,16 @@ fn cast(p: Vec3, n: Vec3, receiver: &Polygon, blockers: &[&Polygon]) -> Option<C
         }
         shadows.push(s);
     }
-    Some(Cast { frame, rec, rec2, shadows, window: (wlo, whi) })
+    true
 }
 
-/// `v` clipped successively to the half-spaces (point, inward normal) into `cur`.
-fn clip_3d(v: &[Vec3], planes: &[(Vec3, Vec3)], cur: &mut Vec<Vec3>, next: &mut Vec<Vec3>) {
-    cur.clear();
-    cur.extend_from_slice(v);
+/// `cur` clipped successively to the half-spaces (point, inward normal), through `next`;
+/// a half-space holding all of it costs no copy.
+fn clip_3d(planes: &[(Vec3, Vec3)], cur: &mut Vec<Vec3>, next: &mut Vec<Vec3>) {
     for (q, qn) in planes {
+        if cur.iter().all(|x| qn.dot(*x - *q) >= 0.0) {
+            continue;
+        }
         clip_to_halfspace(cur, *q, *qn, 0.0, next);
         std::mem::swap(cur, next);
         if cur.len() < 3 {
@@ -193,11 +240,14 @@ fn clip_3d(v: &[Vec3], planes: &[(Vec3, Vec3)], cur: &mut Vec<Vec3>, next: &mut 
 }
 
 fn visible(p: Vec3, n: Vec3, receiver: &Polygon, blockers: &[&Polygon]) -> Visible {
-    let Some(cast) = cast(p, n, receiver, blockers) else { return Visible::Nothing };
-    if cast.shadows.is_empty() {
-        return Visible::Whole(cast.rec);
-    }
-    Visible::Parts(difference(&cast))
+    with_cast(p, n, receiver, blockers, |cast| {
+        if cast.shadows.is_empty() {
+            Visible::Whole(cast.rec.clone())
+        } else {
+            Visible::Parts(difference(cast))
+        }
+    })
+    .unwrap_or(Visible::Nothing)
 }
 
 /// Step 4 of [`visible_part`]: the receiver minus the union of the shadows (non-zero fill),
@@ -208,8 +258,8 @@ fn difference(cast: &Cast) -> Vec<Vec<Vec3>> {
     let (lo, hi) = cast.window;
     let mut shadows = Vec::with_capacity(cast.shadows.len());
     let mut tmp = Vec::new();
-    for s in &cast.shadows {
-        let mut c = s.clone();
+    for s in cast.shadows.iter() {
+        let mut c = s.to_vec();
         for (u, w) in [
             ([lo[0], lo[1]], [hi[0], lo[1]]),
             ([hi[0], lo[1]], [hi[0], hi[1]]),
@@ -261,21 +311,33 @@ fn shadowed_convex(p: Vec3, n: Vec3, cast: &Cast) -> Option<f64> {
     };
     SCRATCH.with(|cell| {
         let mut guard = cell.borrow_mut();
-        let Scratch { pieces, split, a, b, c, piece3, order } = &mut *guard;
+        let Scratch { pieces, split, a, b, c, piece3, order, sel, merged } = &mut *guard;
         // only the shadows reaching the receiver's box matter; each must be convex
-        let mut shadows: Vec<Cow<'_, [[f64; 2]]>> = Vec::with_capacity(cast.shadows.len());
-        for s in cast.shadows.iter() {
+        sel.clear();
+        for (k, s) in cast.shadows.iter().enumerate() {
             if overlap(bbox(s), (rlo, rhi)) {
                 if !is_convex(s) {
                     return None;
                 }
-                shadows.push(Cow::Borrowed(s));
+                sel.push(k);
             }
         }
-        if shadows.len() >= MERGE_FROM {
-            merge_adjacent(&mut shadows);
-        }
-        if let [s] = &shadows[..] {
+        let shadows: &Pieces = if sel.len() >= MERGE_FROM {
+            let mut joined: Vec<Cow<'_, [[f64; 2]]>> =
+                sel.iter().map(|&k| Cow::Borrowed(cast.shadows.get(k))).collect();
+            merge_adjacent(&mut joined);
+            merged.clear();
+            for s in &joined {
+                merged.push(s);
+            }
+            sel.clear();
+            sel.extend(0..merged.len());
+            merged
+        } else {
+            &cast.shadows
+        };
+        if let [k] = sel[..] {
+            let s = shadows.get(k);
             // one shadow: Lambert over receiver ∩ shadow directly (one piece, not the ring
             // of pieces around it); exactly 0 if they do not overlap, exactly all of the
             // receiver's F if it covers the receiver
@@ -297,20 +359,20 @@ fn shadowed_convex(p: Vec3, n: Vec3, cast: &Cast) -> Option<f64> {
             return Some(lambert(a, piece3).max(0.0));
         }
         order.clear();
-        order.extend(shadows.iter().enumerate().map(|(k, s)| (signed_area(s), k)));
+        order.extend(sel.iter().map(|&k| (signed_area(shadows.get(k)), k)));
         // largest first: the big shadows leave little for the others to cut
         order.sort_unstable_by(|x, y| y.0.total_cmp(&x.0));
         pieces.clear();
         pieces.push(&cast.rec2);
         let mut cut = false;
         for &(_, k) in order.iter() {
-            let s = &shadows[k];
+            let s = shadows.get(k);
             split.clear();
             for i in 0..pieces.len() {
                 cut |= subtract_convex(pieces.get(i), s, split, a, b, c);
             }
             std::mem::swap(pieces, split);
-            if pieces.len() == 0 {
+            if pieces.is_empty() {
                 return Some(free());
             }
         }
@@ -345,6 +407,12 @@ impl Pieces {
     fn get(&self, i: usize) -> &[[f64; 2]] {
         &self.pts[if i == 0 { 0 } else { self.ends[i - 1] }..self.ends[i]]
     }
+    fn is_empty(&self) -> bool {
+        self.ends.is_empty()
+    }
+    fn iter(&self) -> impl Iterator<Item = &[[f64; 2]]> {
+        (0..self.len()).map(|i| self.get(i))
+    }
 }
 
 /// The convex path's buffers, one set per thread: it runs once per point evaluation, and
@@ -359,6 +427,9 @@ struct Scratch {
     piece3: Vec<Vec3>,
     /// (area, index) of the shadows reaching the receiver
     order: Vec<(f64, usize)>,
+    /// the shadows reaching the receiver (indices), and those joined (see [`MERGE_FROM`])
+    sel: Vec<usize>,
+    merged: Pieces,
 }
 
 thread_local! {
@@ -598,11 +669,18 @@ pub fn point_visible_view_factor(p: Vec3, n: Vec3, receiver: &Polygon, blockers:
         return f64::NAN;
     }
     let n = n.normalize();
-    let Some(cast) = cast(p, n, receiver, blockers) else { return 0.0 };
-    if let Some(hidden) = shadowed_convex(p, n, &cast) {
-        return (crate::unobstructed::analytic::point_contour(p, n, &cast.rec) - hidden).max(0.0);
+    let convex = with_cast(p, n, receiver, blockers, |cast| {
+        shadowed_convex(p, n, cast)
+            .map(|hidden| (crate::unobstructed::analytic::point_contour(p, n, &cast.rec) - hidden).max(0.0))
+    });
+    match convex {
+        None => 0.0,
+        Some(Some(f)) => f,
+        Some(None) => visible_part(p, n, receiver, blockers)
+            .iter()
+            .map(|c| crate::unobstructed::analytic::point_contour(p, n, c))
+            .sum(),
     }
-    visible_part(p, n, receiver, blockers).iter().map(|c| crate::unobstructed::analytic::point_contour(p, n, c)).sum()
 }
 
 /// The part of the unobstructed point view factor that the blockers hide: Lambert's formula
@@ -615,8 +693,7 @@ pub fn point_shadowed_view_factor(p: Vec3, n: Vec3, receiver: &Polygon, blockers
         return f64::NAN;
     }
     let n = n.normalize();
-    let Some(cast) = cast(p, n, receiver, blockers) else { return 0.0 };
-    shadowed(p, n, &cast)
+    with_cast(p, n, receiver, blockers, |cast| shadowed(p, n, cast)).unwrap_or(0.0)
 }
 
 /// Lambert's F from p to the receiver without blockers (the part in front of p) and
@@ -627,8 +704,10 @@ pub fn point_free_and_shadowed(p: Vec3, n: Vec3, receiver: &Polygon, blockers: &
         return (f64::NAN, f64::NAN);
     }
     let n = n.normalize();
-    let Some(cast) = cast(p, n, receiver, blockers) else { return (0.0, 0.0) };
-    (crate::unobstructed::analytic::point_contour(p, n, &cast.rec).max(0.0), shadowed(p, n, &cast))
+    with_cast(p, n, receiver, blockers, |cast| {
+        (crate::unobstructed::analytic::point_contour(p, n, &cast.rec).max(0.0), shadowed(p, n, cast))
+    })
+    .unwrap_or((0.0, 0.0))
 }
 
 fn shadowed(p: Vec3, n: Vec3, cast: &Cast) -> f64 {
