@@ -119,3 +119,26 @@ def test_an_absurdly_long_obj_line_is_refused_without_reading_it_whole(tmp_path)
     r = _run_limited(code, str(obj))
     assert r.returncode == 3, (r.returncode, r.stderr[-2000:])
     assert "long.obj, line 4: longer than 16 MiB" in r.stdout, r.stdout
+
+
+def test_an_absurdly_long_idf_line_is_refused_under_the_limit(tmp_path):
+    # the IDF reader streams through the same line reader: a 24 MB field list on line 2
+    idf = tmp_path / "long.idf"
+    with open(idf, "wb") as fh:
+        fh.write(b"Version,9.4;\nZone,Z")
+        chunk = b",0" * (1 << 16)
+        for _ in range(24 * (1 << 20) // len(chunk)):
+            fh.write(chunk)
+        fh.write(b";\n")
+    code = """
+    import sys
+    import nusselt
+    try:
+        nusselt.Scene.from_file(sys.argv[1])
+    except ValueError as e:
+        print("refused:", e)
+        sys.exit(3)
+    """
+    r = _run_limited(code, str(idf))
+    assert r.returncode == 3, (r.returncode, r.stderr[-2000:])
+    assert "long.idf, line 2: longer than 16 MiB" in r.stdout, r.stdout

@@ -29,9 +29,14 @@ def _per_surface(items: list[str] | None, names: list[str], what: str, default: 
 
 def _read_values(path: str, names: list[str], eps, t, q) -> None:
     """CSV with a header ``surface,emissivity,temperature,flux`` (empty cells: not given)."""
-    with open(path, newline="") as fh:
-        rows = list(csv.DictReader(fh))
-    for line, row in enumerate(rows, start=2):
+    from .io.scenedata import csv_rows
+
+    rows = csv_rows(path, "CSV")
+    header = next(rows, (0, []))[1]
+    for line, cells in rows:
+        if not cells:
+            continue  # a blank line, as csv.DictReader skips it
+        row = dict(zip(header, cells))
         name = (row.get("surface") or "").strip()
         if name not in names:
             raise ValueError(f"{path}, line {line}: no surface {name!r}; surfaces: {', '.join(names)}")

@@ -320,20 +320,20 @@ def plane_radiant_temperatures(
 def read_points_csv(path) -> tuple[np.ndarray, np.ndarray]:
     """Points and normals from a CSV file with a header naming the columns x, y, z, nx, ny,
     nz (in any order; other columns are ignored). Errors name the file and line."""
-    import csv
+    from .io.scenedata import csv_rows
 
-    with open(path, newline="") as fh:
-        rows = list(csv.reader(fh))
-    if not rows:
+    rows = csv_rows(str(path), "CSV")
+    first = next(rows, None)
+    if first is None:
         raise ValueError(f"{path}: empty file, expected a header x,y,z,nx,ny,nz")
-    header = [h.strip().lower() for h in rows[0]]
+    header = [h.strip().lower() for h in first[1]]
     need = ["x", "y", "z", "nx", "ny", "nz"]
     missing = [c for c in need if c not in header]
     if missing:
-        raise ValueError(f"{path}:1: missing column(s) {', '.join(missing)} (header: {','.join(header)})")
+        raise ValueError(f"{path}:{first[0]}: missing column(s) {', '.join(missing)} (header: {','.join(header)})")
     cols = [header.index(c) for c in need]
     out = []
-    for line, row in enumerate(rows[1:], start=2):
+    for line, row in rows:
         if not row or all(not c.strip() for c in row):
             continue
         if len(row) < len(header):

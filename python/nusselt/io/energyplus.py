@@ -49,7 +49,6 @@ or epJSON; :func:`read_user_view_factors` here reads them back.
 
 from __future__ import annotations
 
-import json
 import math
 import os
 import re
@@ -58,7 +57,7 @@ import warnings
 import numpy as np
 
 from . import _planar
-from .scenedata import SceneData, check_readable, parse_error
+from .scenedata import SceneData, check_readable, parse_error, read_json, starts_with, text_lines
 from .view3d import local_plane_axes
 
 OBJECT = "ZoneProperty:UserViewFactors:BySurfaceName"
@@ -194,14 +193,14 @@ class _Obj:
 # --- IDF text ------------------------------------------------------------------------------
 
 
-def _idf_objects(path: str, text: str) -> list[tuple[int, list[str]]]:
-    """(first line, fields) of every IDF object; ``!`` starts a comment, ``,`` separates fields,
-    ``;`` ends an object."""
+def _idf_objects(path: str) -> list[tuple[int, list[str]]]:
+    """(first line, fields) of every IDF object, read line by line; ``!`` starts a comment,
+    ``,`` separates fields, ``;`` ends an object."""
     out: list[tuple[int, list[str]]] = []
     fields: list[str] = []
     cur: list[str] = []
     start = None
-    for no, line in enumerate(text.splitlines(), start=1):
+    for no, line in text_lines(path, "IDF"):
         line = line.split("!", 1)[0]
         for piece in re.split(r"([,;])", line):
             if piece == ",":
@@ -248,8 +247,8 @@ def _fits(kind: str, layout: list[str], values: list[str]) -> bool:
     return len(vals) == n  # the last fields (length, height or width) are required
 
 
-def _from_idf(path: str, text: str) -> list[_Obj]:
-    raw = _idf_objects(path, text)
+def _from_idf(path: str) -> list[_Obj]:
+    raw = _idf_objects(path)
     version = None
     for _, vals in raw:
         if vals[0].strip().lower() == "version":
@@ -296,11 +295,17 @@ def _from_idf(path: str, text: str) -> list[_Obj]:
 # --- epJSON --------------------------------------------------------------------------------
 
 
-def _from_epjson(path: str, text: str) -> list[_Obj]:
-    try:
-        doc = json.loads(text)
-    except json.JSONDecodeError as e:
-        raise parse_error(path, f"line {e.lineno}", f"not valid JSON: {e.msg}") from None
+def _is_epjson(path: str) -> bool:
+    return path.lower().endswith(".epjson") or starts_with(path, b"{")
+
+
+def _read_epjson(path: str):
+    # JSON is parsed whole: a file too large for that is refused, with the way out
+    return read_json(path, "epJSON", "convert it to IDF (EnergyPlus ConvertInputFormat), which is read line by line")
+
+
+def _from_epjson(path: str) -> list[_Obj]:
+    doc = _read_epjson(path)
     if not isinstance(doc, dict):
         raise parse_error(path, None, "an epJSON file is a JSON object of object types")
     lower = {k.lower(): k for k in doc}
@@ -449,11 +454,8 @@ def read_energyplus(path) -> SceneData:
     """
     path = os.fspath(path)
     check_readable(path)
-    with open(path, "rb") as fh:
-        raw = fh.read()
-    text = raw.decode("utf-8-sig", errors="replace")
-    is_json = path.lower().endswith(".epjson") or text.lstrip().startswith("{")
-    objs = _from_epjson(path, text) if is_json else _from_idf(path, text)
+    is_json = _is_epjson(path)
+    objs = _from_epjson(path) if is_json else _from_idf(path)
     return _build(path, objs, "epJSON" if is_json else "IDF")
 
 
@@ -685,17 +687,15 @@ def read_user_view_factors(path) -> dict[str, dict[tuple[str, str], float]]:
     ``{zone: {(from, to): F}}``."""
     path = os.fspath(path)
     check_readable(path)
-    with open(path, encoding="utf-8-sig", errors="replace") as fh:
-        text = fh.read()
     out: dict[str, dict[tuple[str, str], float]] = {}
-    if path.lower().endswith(".epjson") or text.lstrip().startswith("{"):
-        doc = json.loads(text)
+    if _is_epjson(path):
+        doc = _read_epjson(path)
         group: dict[str, dict] = next((v for k, v in doc.items() if k.lower() == OBJECT.lower()), {})
         for obj in group.values():
             z = obj["zone_or_zonelist_or_space_or_spacelist_name"]
             out[z] = {(e["from_surface"], e["to_surface"]): float(e["view_factor"]) for e in obj["view_factors"]}
         return out
-    for line, vals in _idf_objects(path, text):
+    for line, vals in _idf_objects(path):
         if vals[0].strip().lower() != OBJECT.lower():
             continue
         rest = vals[2:]

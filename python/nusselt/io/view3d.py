@@ -37,7 +37,7 @@ import warnings
 import numpy as np
 
 from . import _planar
-from .scenedata import SceneData, check_readable, parse_error
+from .scenedata import SceneData, check_readable, parse_error, text_lines
 
 _INT_CONTROLS = {"maxu", "maxo", "mino", "row", "col", "encl", "emit", "out", "list", "prjd", "maxv"}
 # View3D 3.2's control words (getdat.c GetCtrl) and what nusselt does with them: honoured,
@@ -116,11 +116,6 @@ def read_view3d(path: str) -> SceneData:
     """
     path = str(path)
     check_readable(path)
-    with open(path, "rb") as fh:
-        raw = fh.read()
-    if b"\0" in raw[:4096]:
-        raise parse_error(path, None, "this is a binary file, not a View3D text input file")
-    lines = raw.decode("utf-8", errors="replace").splitlines()
 
     def err(no, msg):
         return parse_error(path, f"line {no}" if no else None, msg)
@@ -143,7 +138,7 @@ def read_view3d(path: str) -> SceneData:
     # Records up to the end-of-data mark, with their line numbers.
     records: list[tuple[int, str, list[str]]] = []
     ended = False  # an end-of-data record was seen
-    for no, line in enumerate(lines, start=1):
+    for no, line in text_lines(path, "View3D text input"):
         text = _strip_comment(line)
         if not text:
             continue
@@ -524,35 +519,46 @@ def read_view3d_output(path: str) -> dict:
     Returns ``{"version", "out", "encl", "emit", "matrix" (N, N) ndarray, "areas", "emissivity"}``."""
     path = str(path)
     check_readable(path)
-    with open(path, encoding="utf-8", errors="replace") as fh:
-        lines = [ln for ln in fh.read().splitlines() if ln.strip()]
-    head = lines[0].split()
+    # (line number, text) of the non-blank lines, read one at a time: rows are parsed as they come
+    lines = ((no, ln) for no, ln in text_lines(path, "View3D output") if ln.strip())
+    first = next(lines, None)
+    if first is None:
+        raise parse_error(path, None, "not a View3D output file: only blank lines")
+    head_no, head_text = first
+    head = head_text.split()
     if len(head) < 6 or head[0] != "View3D":
-        raise parse_error(path, "line 1", "not a View3D output file (expected 'View3D 3.2 out encl emit N')")
+        raise parse_error(path, f"line {head_no}", "not a View3D output file (expected 'View3D 3.2 out encl emit N')")
     try:
         out, encl, emit, n = (int(t) for t in head[2:6])
     except ValueError:
-        raise parse_error(path, "line 1", f"bad header {lines[0].strip()!r}") from None
+        raise parse_error(path, f"line {head_no}", f"bad header {head_text.strip()!r}") from None
     if out != 0:
-        raise parse_error(path, "line 1", f"out={out}: only the text form (out=0) is read")
-    if len(lines) < n + 3:
-        raise parse_error(path, None, f"{n} surfaces need {n + 3} lines, the file has {len(lines)}")
+        raise parse_error(path, f"line {head_no}", f"out={out}: only the text form (out=0) is read")
+    if n < 0:
+        raise parse_error(path, f"line {head_no}", f"bad header: {n} surfaces")
 
     def row(k):
+        got = next(lines, None)
+        if got is None:
+            raise parse_error(path, None, f"{n} surfaces need {n + 3} lines, the file has {k}")
+        no, text = got
         try:
-            r = np.array([float(t) for t in lines[k].split()])
+            r = np.array([float(t) for t in text.split()])
         except ValueError:
-            raise parse_error(path, f"line {k + 1}", "bad number") from None
+            raise parse_error(path, f"line {no}", "bad number") from None
         if r.size != n:
-            raise parse_error(path, f"line {k + 1}", f"expected {n} values, found {r.size}")
+            raise parse_error(path, f"line {no}", f"expected {n} values, found {r.size}")
         return r
 
+    areas = row(1)
+    matrix = np.array([row(2 + i) for i in range(n)]).reshape(n, n)  # grows only as rows are found
+    emissivity = row(2 + n)
     return {
         "version": head[1],
         "out": out,
         "encl": encl,
         "emit": emit,
-        "areas": row(1),
-        "matrix": np.array([row(2 + i) for i in range(n)]).reshape(n, n),
-        "emissivity": row(2 + n),
+        "areas": areas,
+        "matrix": matrix,
+        "emissivity": emissivity,
     }
