@@ -9,8 +9,12 @@ applied to each pair block as it arrives, so what is dropped never reaches the r
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
-import scipy.sparse as sp
+
+if TYPE_CHECKING:
+    import scipy.sparse as sp
 
 from . import _core
 from .blocks import Block
@@ -54,6 +58,8 @@ def canonical_csr(data: np.ndarray, idx: np.ndarray, indptr: np.ndarray, nr: int
     """A CSR array over the given parts without copies (sorted, no duplicates: the caller's
     promise). scipy keeps index arrays as given only when both have one dtype: int32 (idx's
     dtype) while the entries fit, so the big idx array is not copied."""
+    import scipy.sparse as sp
+
     if idx.dtype == np.int32 and indptr[-1] <= np.iinfo(np.int32).max:
         indptr = indptr.astype(np.int32)
     m = sp.csr_array((data, idx, indptr), shape=(nr, nr))
@@ -111,6 +117,8 @@ def assemble_pairs(done: list[Block], col_of: np.ndarray, areas: np.ndarray, dty
 def assemble_rows(done: list[Block], col_of: np.ndarray, nr: int, dtype=np.float64):
     """(F, std or None, lost or None) from whole-row blocks over receiver indices; ``done`` is
     emptied block by block as each is copied into the final arrays."""
+    import scipy.sparse as sp
+
     counts = np.zeros(nr, dtype=np.int64)
     with_std = any(b.std is not None for b in done)
     with_lost = bool(done) and done[0].lost is not None
@@ -171,6 +179,8 @@ def threshold_matrix(matrix: sp.csr_array, std, threshold: float):
     """Row-method results: drop a pair when both F_ij and F_ji are below ``threshold`` (needs
     both rows, so it is applied to the whole matrix). Returns (matrix, std, largest row mass
     dropped)."""
+    import scipy.sparse as sp
+
     big = (matrix >= threshold).astype(np.int8)
     keep = (big + big.T).tocsr()
     kept = sp.csr_array(matrix.multiply(keep > 0).tocsr())

@@ -5,8 +5,8 @@ from __future__ import annotations
 import warnings
 
 import numpy as np
-import scipy.sparse as sp
 
+from ._sparse import issparse
 from .scene import NusseltWarning, Scene
 
 
@@ -43,7 +43,9 @@ def facing_partner(scene: Scene, rows: np.ndarray, cols: np.ndarray, backs: bool
 def warn_zero_rows(scene: Scene, matrix, faces: np.ndarray, *, stacklevel: int = 3) -> None:
     """Warn (:class:`ZeroRowWarning`) when rows of ``matrix`` (rows = ``faces`` of the
     scene) are 0 while another receiver lies in front of them, or the whole result is 0."""
-    m = matrix if sp.issparse(matrix) else sp.csr_array(np.asarray(matrix))
+    import scipy.sparse as sp
+
+    m = matrix if issparse(matrix) else sp.csr_array(np.asarray(matrix))
     nr = m.shape[0]
     if nr < 2:
         return

@@ -24,6 +24,7 @@ from collections.abc import Callable
 import numpy as np
 
 from .io import _planar
+from .io.topology import sorted_unique
 
 
 def _pairs_in_sweep(lo: np.ndarray, hi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -34,7 +35,8 @@ def _pairs_in_sweep(lo: np.ndarray, hi: np.ndarray) -> tuple[np.ndarray, np.ndar
     cost O(n^1.5)). Boxes spanning more than 16 cells are tested against all boxes."""
     n = len(lo)
     ext = (hi - lo).max(axis=1)
-    h = float(np.median(ext))
+    srt = np.sort(ext)  # the median; np.median first imports numpy.ma
+    h = float(0.5 * (srt[(n - 1) // 2] + srt[n // 2])) if n else 0.0
     if not h > 0:
         h = float(np.max(ext)) or 1.0
     origin = lo.min(axis=0)
@@ -73,7 +75,7 @@ def _pairs_in_sweep(lo: np.ndarray, hi: np.ndarray) -> tuple[np.ndarray, np.ndar
     pb.append(np.maximum(a, b))
     a, b = np.concatenate(pa), np.concatenate(pb)
     keep = (a != b) & (lo[a, 0] < hi[b, 0]) & (lo[b, 0] < hi[a, 0]) & (lo[a, 1] < hi[b, 1]) & (lo[b, 1] < hi[a, 1])
-    uniq = np.unique(a[keep] * n + b[keep])
+    uniq = sorted_unique(a[keep] * n + b[keep])
     return uniq // n, uniq % n
 
 
@@ -127,7 +129,7 @@ def coplanar_overlaps(
         # convex faces are fanned here, by face size at once; the core triangulates the rest
         sizes_m = np.array([len(faces[k]) for k in members])
         tris, owner, rest = [], [], []
-        for m in np.unique(sizes_m):
+        for m in sorted_unique(sizes_m):
             ks = members[sizes_m == m]
             p = vertices[np.array([faces[k] for k in ks], dtype=np.int64)]  # (g, m, 3)
             e = np.roll(p, -1, axis=1) - p

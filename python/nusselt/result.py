@@ -6,9 +6,9 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
-import scipy.sparse as sp
 
 from . import trust as _trust
+from ._sparse import issparse
 
 # A scipy.sparse array or a dense ndarray. scipy ships no type stubs, so the sparse side is
 # Any to mypy and the union collapses to Any; the name documents what the value is.
@@ -57,7 +57,7 @@ class FormFactors:
 
     def dense(self) -> np.ndarray:
         m = self.matrix
-        return m.toarray() if sp.issparse(m) else np.asarray(m)
+        return m.toarray() if issparse(m) else np.asarray(m)
 
     def _measures(self) -> dict:
         """Closure, reciprocity and row-sum measures, computed once per matrix object
@@ -96,6 +96,8 @@ class FormFactors:
         """The same result aggregated to named surfaces with the form-factor algebra:
         additivity over receivers and area-weighted composition of sources,
         F_(S->T) = sum_{i in S, j in T} A_i F_ij / sum_{i in S} A_i."""
+        import scipy.sparse as sp
+
         if self.surface is None:
             raise ValueError("this result is already per surface")
         used = np.unique(self.surface)
@@ -116,7 +118,7 @@ class FormFactors:
         if self.lost is not None:
             lost = (s.T @ (self.lost * self.areas)) / a
         names = [self.surface_names[k] for k in used] if self.surface_names else [str(k) for k in used]
-        matrix = fs if sp.issparse(self.matrix) else fs.toarray()
+        matrix = fs if issparse(self.matrix) else fs.toarray()
         return FormFactors(matrix, a, names, used, self.method, None, None, std, lost, dict(self.info))
 
     @property
@@ -125,7 +127,7 @@ class FormFactors:
         if self.std_err is None:
             return None
         s = self.std_err
-        return float(s.max()) if (s.nnz if sp.issparse(s) else np.size(s)) else 0.0
+        return float(s.max()) if (s.nnz if issparse(s) else np.size(s)) else 0.0
 
     def trust(self) -> dict:
         """The error measures as a dict (stored with the result by ``nusselt matrix``):
@@ -172,8 +174,10 @@ class FormFactors:
 
 
 def _nnz(m) -> int:
-    return int(m.nnz) if sp.issparse(m) else int(np.count_nonzero(m))
+    return int(m.nnz) if issparse(m) else int(np.count_nonzero(m))
 
 
 def _as_sparse(m):
-    return m if sp.issparse(m) else sp.csr_array(m)
+    import scipy.sparse as sp
+
+    return m if issparse(m) else sp.csr_array(m)

@@ -11,8 +11,14 @@ not of a second matrix.
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
-import scipy.sparse as sp
+
+from ._sparse import issparse
+
+if TYPE_CHECKING:
+    import scipy.sparse as sp
 
 #: Entries per band of the reciprocity check (bounds its extra memory to ~16 bytes each).
 BAND_ENTRIES = 1 << 23
@@ -24,11 +30,13 @@ def row_sums(matrix) -> np.ndarray:
 
 def reciprocity_error(matrix, areas: np.ndarray) -> float:
     """max |A_i F_ij - A_j F_ji| / max(|A_i F_ij|, |A_j F_ji|) over nonzero pairs."""
+    import scipy.sparse as sp
+
     a = np.asarray(areas, dtype=np.float64)
     n = len(a)
     if n == 0:
         return 0.0
-    if not sp.issparse(matrix):
+    if not issparse(matrix):
         g = np.asarray(matrix, dtype=np.float64) * a[:, None]
         den = np.maximum(np.abs(g), np.abs(g.T))
         ok = den > 0
@@ -50,6 +58,8 @@ def reciprocity_error(matrix, areas: np.ndarray) -> float:
 
 
 def _band_error(rows: sp.csr_array, cols: sp.csr_array, a: np.ndarray, s: int) -> float:
+    import scipy.sparse as sp
+
     n_band = rows.shape[0]
     if rows.nnz == cols.nnz and np.array_equal(rows.indptr, cols.indptr) and np.array_equal(rows.indices, cols.indices):
         # the usual case, a symmetric pattern: compare entry by entry

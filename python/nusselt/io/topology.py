@@ -16,7 +16,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-import scipy.sparse as sp
 
 ORIENTS = ("auto", "inward", "outward", "as-is")
 
@@ -84,13 +83,11 @@ def shells(vertices: np.ndarray, faces: list[np.ndarray]) -> Shells:
     # consistent: each edge twice, once each way (a < b once, a > b once)
     forward = np.bincount(key_of_edge, weights=(a < b).astype(float), minlength=nk)
     edge_ok = (count == 2) & (forward == 1)
-    # faces and edges as one graph: a face is joined to its edges
-    g = sp.coo_matrix((np.ones(len(flat)), (face_of_edge, nf + key_of_edge)), shape=(nf + nk, nf + nk))
-    from scipy.sparse.csgraph import connected_components  # on first use: it imports scipy.linalg
-
-    _, lab = connected_components(g, directed=False)
-    face_lab = lab[:nf]
-    _, face_lab = np.unique(face_lab, return_inverse=True)
+    # faces and edges as one graph: a face is joined to its edges; shells numbered by their
+    # first face
+    lab = _components(nf + nk, face_of_edge, nf + key_of_edge)
+    _, face_lab = np.unique(lab[:nf], return_inverse=True)
+    face_lab = face_lab.ravel()
     ns = int(face_lab.max()) + 1 if nf else 0
     bad = np.bincount(face_lab[face_of_edge], weights=(~edge_ok[key_of_edge]).astype(float), minlength=ns)
     open_edges = np.bincount(face_lab[face_of_edge], weights=(count[key_of_edge] != 2).astype(float), minlength=ns)
@@ -122,20 +119,7 @@ def _consistent_flips(vertices: np.ndarray, faces: list[np.ndarray], members: np
     f1, f2 = face_of_edge[e1], face_of_edge[e2]
     fwd = a < b
     parity = (fwd[e1] == fwd[e2]).astype(np.int8)  # 1: the two must differ in flip
-    g = sp.coo_matrix((parity.astype(float) + 1.0, (f1, f2)), shape=(nf, nf)).tocsr()
-    g = (g + g.T).tocsr()
-    flip = np.zeros(nf, dtype=bool)
-    seen = np.zeros(nf, dtype=bool)
-    for root in range(nf):
-        if seen[root]:
-            continue
-        from scipy.sparse.csgraph import breadth_first_order
-
-        bfs, pred = breadth_first_order(g, root, directed=False, return_predecessors=True)
-        seen[bfs] = True
-        for node in bfs[1:]:
-            p = pred[node]
-            flip[node] = flip[p] ^ (g[p, node] > 1.5)
+    flip = _two_colour(nf, f1, f2, parity.astype(bool))
     d = fwd ^ flip[face_of_edge]
     if np.any(d[e1] == d[e2]):
         return None
@@ -157,6 +141,55 @@ def _encloses_volume(
     vol = abs(float(np.sum(sign * np.einsum("ij,ij->i", av[members], p0)))) / 3.0
     area = float(np.linalg.norm(av[members], axis=1).sum())
     return vol > 1e-12 * area**1.5
+
+
+def sorted_unique(x: np.ndarray) -> np.ndarray:
+    """``np.unique(x)`` for plain integer arrays; numpy 2's own first imports numpy.ma (tens
+    of milliseconds on every start), to test whether ``x`` is masked."""
+    s = np.sort(np.asarray(x).ravel())
+    new = np.ones(len(s), dtype=bool)
+    new[1:] = s[1:] != s[:-1]
+    return s[new]
+
+
+def _components(n: int, u: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """Connected components of the undirected graph on nodes 0..n-1 with edges (u[k], v[k]):
+    each node's label is the smallest node of its component. Hook-and-shortcut (Shiloach and
+    Vishkin, J. Algorithms 3, 1982): every edge across two trees hangs the larger root below
+    the smaller, then each node jumps to its root; a pass per halving, not per node."""
+    parent = np.arange(n)
+    while True:
+        pu, pv = parent[u], parent[v]
+        cross = pu != pv
+        if not cross.any():
+            return parent
+        np.minimum.at(parent, np.maximum(pu[cross], pv[cross]), np.minimum(pu[cross], pv[cross]))
+        while True:
+            up = parent[parent]
+            if np.array_equal(up, parent):
+                break
+            parent = up
+
+
+def _two_colour(n: int, f1: np.ndarray, f2: np.ndarray, differ: np.ndarray) -> np.ndarray:
+    """A flip per node such that flip[f1[k]] ^ flip[f2[k]] == differ[k] along a spanning
+    forest, grown breadth first (level by level) from the first unreached node, which keeps
+    its orientation. Whether every edge then agrees is for the caller to check."""
+    src = np.concatenate([f1, f2])
+    dst = np.concatenate([f2, f1])
+    par = np.concatenate([differ, differ])
+    flip = np.zeros(n, dtype=bool)
+    seen = np.zeros(n, dtype=bool)
+    while not seen.all():
+        seen[np.argmin(seen)] = True  # a new root
+        while True:
+            step = seen[src] & ~seen[dst]
+            if not step.any():
+                break
+            # a node reached twice in one level keeps one of its predecessors' verdicts
+            flip[dst[step]] = flip[src[step]] ^ par[step]
+            seen[dst[step]] = True
+    return flip
 
 
 def _weld(vertices: np.ndarray) -> np.ndarray:
@@ -195,7 +228,7 @@ def _encloses_all(s: int, sh: Shells, vertices: np.ndarray, faces: list[np.ndarr
     """Whether closed shell ``s`` holds every other face of the scene inside it: bounding
     box first, then the winding number about the centre of up to 64 other shells."""
     mine = np.flatnonzero(sh.label == s)
-    vm = np.unique(np.concatenate([faces[k] for k in mine]))
+    vm = sorted_unique(np.concatenate([faces[k] for k in mine]))
     lo, hi = vertices[vm].min(axis=0), vertices[vm].max(axis=0)
     tol = 1e-9 * float(np.linalg.norm(hi - lo))
     if (bounds[0] < lo - tol).any() or (bounds[1] > hi + tol).any():
@@ -203,7 +236,7 @@ def _encloses_all(s: int, sh: Shells, vertices: np.ndarray, faces: list[np.ndarr
     others = [o for o in range(sh.count) if o != s]
     if not others:
         return True
-    pick = np.unique(np.linspace(0, len(others) - 1, min(64, len(others))).astype(int))
+    pick = sorted_unique(np.linspace(0, len(others) - 1, min(64, len(others))).astype(int))
     centres = []
     for o in (others[i] for i in pick):
         idx = np.concatenate([faces[k] for k in np.flatnonzero(sh.label == o)])
@@ -268,7 +301,7 @@ def orient_faces(vertices: np.ndarray, faces: list[np.ndarray], orient: str = "a
         flip_shell = sh.closed & (sh.volume * want < 0)
     else:
         cand = np.flatnonzero(sh.closed & (sh.volume > 0))
-        used = np.unique(np.concatenate(faces))
+        used = sorted_unique(np.concatenate(faces))
         bounds = np.stack([vertices[used].min(axis=0), vertices[used].max(axis=0)])  # of the scene's faces
         enclosing = [s for s in cand if _encloses_all(int(s), sh, vertices, faces, bounds)]
         if orient == "auto":
@@ -279,5 +312,10 @@ def orient_faces(vertices: np.ndarray, faces: list[np.ndarray], orient: str = "a
     for k in turned:
         faces[k] = faces[k][::-1].copy()
     # a face reversed twice (made consistent, then its shell turned) is back as given
-    report["flipped"] = np.setxor1d(turned, made_consistent)
+    both = np.sort(np.concatenate([turned, made_consistent]))
+    twice = both[1:] == both[:-1]
+    once = np.ones(len(both), dtype=bool)
+    once[1:] &= ~twice
+    once[:-1] &= ~twice
+    report["flipped"] = both[once]  # np.setxor1d, without numpy.ma
     return faces, report

@@ -9,8 +9,14 @@ half-written output under the final name.
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
-import scipy.sparse as sp
+
+from ..._sparse import issparse
+
+if TYPE_CHECKING:
+    import scipy.sparse as sp
 
 from ..atomic import atomic_open
 
@@ -32,7 +38,9 @@ def _square(matrix, what: str = "matrix"):
 
 
 def _csr(matrix) -> sp.csr_array:
-    if sp.issparse(matrix):
+    import scipy.sparse as sp
+
+    if issparse(matrix):
         return sp.csr_array(matrix)
     return sp.csr_array(np.asarray(matrix, dtype=np.float64))
 
@@ -53,7 +61,9 @@ def _areas(areas, n: int) -> np.ndarray:
 
 def _dense_rows(matrix, n: int, block: int = 256):
     """Rows of the matrix as dense float arrays, a block at a time (bounded memory)."""
-    if sp.issparse(matrix):
+    import scipy.sparse as sp
+
+    if issparse(matrix):
         m = sp.csr_array(matrix)
         for s in range(0, n, block):
             for r in m[s : s + block].toarray():

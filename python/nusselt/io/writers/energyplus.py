@@ -7,8 +7,8 @@ import json
 import os
 
 import numpy as np
-import scipy.sparse as sp
 
+from ..._sparse import issparse
 from ..energyplus import OBJECT
 from ._common import _atomic, _names, _square, field
 
@@ -34,7 +34,7 @@ def write_result_energyplus(path: str, result, scene, zone_name, fmt: str, patch
             raise ValueError(f"{path}: EnergyPlus needs surface names; aggregate the result to surfaces first")
         result = result.by_surface()
     matrix, names = field(result, "matrix"), list(field(result, "names"))
-    f = matrix.toarray() if sp.issparse(matrix) else np.asarray(matrix, dtype=np.float64)
+    f = matrix.toarray() if issparse(matrix) else np.asarray(matrix, dtype=np.float64)
     meta = getattr(scene, "meta", None) or {}
     surface_zone = meta.get("surface_zone")
     faces = field(result, "faces")
@@ -78,7 +78,7 @@ def view_factor_triplets(path, matrix, names, *, all_pairs: bool = True) -> list
     """The (from, to, F) triplets of a surface matrix, row = from: all N^2, or with
     ``all_pairs=False`` the nonzero ones; values checked to lie in [0, 1] (round-off up to
     1e-9 outside is clipped)."""
-    f = matrix.toarray() if sp.issparse(matrix) else np.asarray(matrix, dtype=np.float64)
+    f = matrix.toarray() if issparse(matrix) else np.asarray(matrix, dtype=np.float64)
     n = len(names)
     if f.shape != (n, n):
         raise ValueError(f"{path}: a {f.shape} matrix for {n} surface names")

@@ -8,8 +8,8 @@ from collections.abc import Callable
 from typing import Any
 
 import numpy as np
-import scipy.sparse as sp
 
+from ..._sparse import issparse
 from ..scenedata import check_readable, parse_error
 from ._common import _areas, _atomic, _csr, _names, _square, field
 
@@ -27,6 +27,8 @@ def write_npz(path, matrix, areas, names, *, compress: bool = False, **extra_arr
     Index arrays are stored as int32 when they fit (else int64) and values as float32 or
     float64 as given, so the file is no larger than the matrix in memory.
     """
+    import scipy.sparse as sp
+
     path = os.fspath(path)
     n = _square(matrix)
     m = _csr(matrix)
@@ -47,7 +49,7 @@ def write_npz(path, matrix, areas, names, *, compress: bool = False, **extra_arr
             raise ValueError(f"extra array name {key!r} is reserved or contains '.'")
         if val is None:
             continue
-        if sp.issparse(val):
+        if issparse(val):
             e = sp.csr_array(val)
             arrays[f"{key}.shape"] = np.array(e.shape, dtype=np.int64)
             arrays[f"{key}.indptr"] = _index_array(e.indptr, e.nnz)
@@ -85,6 +87,8 @@ def load_npz(path) -> dict:
 
     Extra arrays come back under their names (sparse ones as csr_array, JSON ones as dicts).
     """
+    import scipy.sparse as sp
+
     path = os.fspath(path)
     check_readable(path)
     try:

@@ -5,8 +5,8 @@ from __future__ import annotations
 import os
 
 import numpy as np
-import scipy.sparse as sp
 
+from ..._sparse import issparse
 from ._common import MAX_DENSE_ROWS, _areas, _atomic, _check_size, _dense_rows, _square, field
 
 
@@ -90,7 +90,7 @@ def _view3d_script_f(path, matrix, emissivity):
     from ...exchange import script_f
 
     e = np.clip(np.asarray(emissivity, dtype=np.float64), 0.001, 0.999)
-    f = matrix.toarray() if sp.issparse(matrix) else np.asarray(matrix, dtype=np.float64)
+    f = matrix.toarray() if issparse(matrix) else np.asarray(matrix, dtype=np.float64)
     return e, np.asarray(script_f(f, e))
 
 
