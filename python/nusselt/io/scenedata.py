@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+from collections.abc import Iterator
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -40,7 +41,30 @@ def check_readable(path: str) -> None:
         raise parse_error(path, None, "the file is empty")
 
 
-@dataclass
+#: The longest line a text reader accepts (16 MiB: a face of over a million vertices). A longer
+#: one is damage or not a scene file, refused before it is held in memory.
+MAX_LINE_BYTES = 1 << 24
+
+
+def text_lines(path: str, kind: str) -> Iterator[tuple[int, str]]:
+    """(line number, text) of a text file, read line by line (the file is never held whole)
+    and decoded as UTF-8 (bad bytes replaced); a NUL byte (a binary file) or a line longer
+    than :data:`MAX_LINE_BYTES` is refused with a ValueError naming the file and line."""
+    with open(path, "rb") as fh:
+        no = 0
+        while raw := fh.readline(MAX_LINE_BYTES + 1):
+            if len(raw) > MAX_LINE_BYTES and not raw.endswith(b"\n"):
+                raise parse_error(
+                    path, f"line {no + 1}", f"longer than {MAX_LINE_BYTES >> 20} MiB: damaged, or not a {kind} file"
+                )
+            if b"\0" in raw:
+                raise parse_error(path, f"line {no + 1}", f"this is a binary file, not a {kind} file (a NUL byte)")
+            for line in raw.decode("utf-8", errors="replace").splitlines() or [""]:
+                no += 1  # splitlines: CR-only line ends count too, as for str.splitlines
+                yield no, line
+
+
+@dataclass(kw_only=True)
 class SceneData:
     """Polygons with named surfaces, as read from a file.
 
@@ -54,9 +78,10 @@ class SceneData:
     names : list of str
         Surface names, unique.
     obstruction : (F,) bool
-        Polygons that block radiation but get no row or column.
+        Polygons that block radiation but get no row or column (default: none).
     emissivity : (len(names),) float64 or None
-        Per named surface (NaN where the file gives none, e.g. obstruction-only surfaces).
+        Per named surface (NaN where the file gives none, e.g. obstruction-only surfaces);
+        None (the default) when the format has none.
     origin : list of str
         Where each polygon came from, for error messages ("line 17", "cell 42").
     source : str
@@ -70,10 +95,10 @@ class SceneData:
     faces: list
     surface: np.ndarray
     names: list
-    obstruction: np.ndarray
-    emissivity: np.ndarray | None
     origin: list
     source: str
+    obstruction: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=bool))
+    emissivity: np.ndarray | None = None
     meta: dict = field(default_factory=dict)
 
     def __post_init__(self) -> None:
@@ -86,6 +111,8 @@ class SceneData:
             raise parse_error(src, None, "the file defines no polygons")
         self.surface = np.asarray(self.surface, dtype=np.int64).ravel()
         self.obstruction = np.asarray(self.obstruction, dtype=bool).ravel()
+        if not self.obstruction.size:  # not given (the default): nothing is obstruction-only
+            self.obstruction = np.zeros(nf, dtype=bool)
         self.names = [str(n) for n in self.names]
         self.origin = [str(o) for o in self.origin]
         if self.surface.shape != (nf,) or self.obstruction.shape != (nf,) or len(self.origin) != nf:

@@ -7,7 +7,7 @@
 //! per-polygon data the loop touches (centroid, normal, radius, second moments) sits in one
 //! contiguous array, and the plan is built once per call instead of once per pair.
 
-use crate::error::{Error, Result};
+use crate::error::{try_filled, Error, Result};
 use crate::geometry::{Polygon, Vec3};
 use crate::matrix::{split_lengths, PairBlock};
 use crate::unobstructed::far_field::FarPlan;
@@ -128,7 +128,9 @@ pub(crate) fn pair_block(
     // are then moved together in place. No per-row buffers and no second copy of the block.
     let room: Vec<usize> = rows.iter().map(|&i| if receiver[i] { n - i - 1 } else { 0 }).collect();
     let total: usize = room.iter().sum();
-    let (mut cols, mut vals) = (vec![0i32; total], vec![0.0f64; total]);
+    // refused as an error, not a process abort, when the block cannot fit in memory
+    let mut cols = try_filled("a block's column indices", total, 0i32)?;
+    let mut vals = try_filled("a block's entries", total, 0.0f64)?;
     let jobs: Vec<_> = rows
         .iter()
         .zip(split_lengths(&mut cols, room.iter().copied()))
