@@ -23,13 +23,12 @@ use crate::unobstructed::rows as unobstructed_rows;
 use crate::visibility::{Bvh, Occluders};
 use crate::work;
 use rayon::prelude::*;
-use std::str::FromStr;
 use std::sync::atomic::AtomicBool;
 use std::sync::OnceLock;
 
 mod points;
 
-/// Every method by name (design.md).
+/// Every method; [`crate::registry`] maps the names users give to it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum AnyMethod {
     /// Unobstructed pair kernels: `analytic`, `contour` (and `auto` without blockers).
@@ -47,21 +46,6 @@ pub enum RowMethod {
     SinglePlane,
     Raytrace,
     Nusselt,
-}
-
-impl FromStr for AnyMethod {
-    type Err = Error;
-    fn from_str(s: &str) -> Result<Self> {
-        Ok(match s {
-            "analytic" => AnyMethod::Exact(Method::Analytic),
-            "contour" => AnyMethod::Exact(Method::Contour),
-            "hemicube" => AnyMethod::Row(RowMethod::Hemicube),
-            "single-plane" => AnyMethod::Row(RowMethod::SinglePlane),
-            "raytrace" => AnyMethod::Row(RowMethod::Raytrace),
-            "nusselt" => AnyMethod::Row(RowMethod::Nusselt),
-            other => AnyMethod::Visible(VisMethod::from_str(other)?),
-        })
-    }
 }
 
 /// The options of every method; each method reads its own ([`crate::registry::configure`]
