@@ -348,22 +348,27 @@ pub fn find(name: &str) -> Result<&'static MethodSpec> {
     })
 }
 
+/// Every method name and the core method it configures: the one mapping between them.
+const WIRING: &[(&str, AnyMethod)] = &[
+    ("analytic", AnyMethod::Exact(Method::Analytic)),
+    ("contour", AnyMethod::Exact(Method::Contour)),
+    ("auto", AnyMethod::Visible(VisMethod::Auto)),
+    ("quadrature", AnyMethod::Visible(VisMethod::Quadrature)),
+    ("montecarlo", AnyMethod::Visible(VisMethod::MonteCarlo)),
+    ("subdivision", AnyMethod::Visible(VisMethod::Subdivision)),
+    ("adaptive", AnyMethod::Visible(VisMethod::Adaptive)),
+    ("clipping", AnyMethod::Visible(VisMethod::Clipping)),
+    ("hemicube", AnyMethod::Row(RowMethod::Hemicube)),
+    ("single-plane", AnyMethod::Row(RowMethod::SinglePlane)),
+    ("raytrace", AnyMethod::Row(RowMethod::Raytrace)),
+    ("nusselt", AnyMethod::Row(RowMethod::Nusselt)),
+];
+
 /// The user-facing name of a method.
 pub fn name_of(m: AnyMethod) -> &'static str {
-    match m {
-        AnyMethod::Exact(Method::Analytic) => "analytic",
-        AnyMethod::Exact(Method::Contour) => "contour",
-        AnyMethod::Exact(Method::Auto) | AnyMethod::Visible(VisMethod::Auto) => "auto",
-        AnyMethod::Visible(VisMethod::Quadrature) => "quadrature",
-        AnyMethod::Visible(VisMethod::MonteCarlo) => "montecarlo",
-        AnyMethod::Visible(VisMethod::Subdivision) => "subdivision",
-        AnyMethod::Visible(VisMethod::Adaptive) => "adaptive",
-        AnyMethod::Visible(VisMethod::Clipping) => "clipping",
-        AnyMethod::Row(RowMethod::Hemicube) => "hemicube",
-        AnyMethod::Row(RowMethod::SinglePlane) => "single-plane",
-        AnyMethod::Row(RowMethod::Raytrace) => "raytrace",
-        AnyMethod::Row(RowMethod::Nusselt) => "nusselt",
-    }
+    // `auto` without blockers runs as the unobstructed kernel choice
+    let m = if m == AnyMethod::Exact(Method::Auto) { AnyMethod::Visible(VisMethod::Auto) } else { m };
+    WIRING.iter().find(|w| w.1 == m).map_or("unknown", |w| w.0)
 }
 
 /// Checks `v` against `spec`; the message names the method and the option.
@@ -418,23 +423,10 @@ pub fn configure(name: &str, given: &[(String, Value)]) -> Result<(AnyMethod, Al
         check(name, slot.0, v)?;
         slot.1 = v.clone();
     }
-    let method = match name {
-        "analytic" => AnyMethod::Exact(Method::Analytic),
-        "contour" => AnyMethod::Exact(Method::Contour),
-        "auto" => AnyMethod::Visible(VisMethod::Auto),
-        "quadrature" => AnyMethod::Visible(VisMethod::Quadrature),
-        "montecarlo" => AnyMethod::Visible(VisMethod::MonteCarlo),
-        "subdivision" => AnyMethod::Visible(VisMethod::Subdivision),
-        "adaptive" => AnyMethod::Visible(VisMethod::Adaptive),
-        "clipping" => AnyMethod::Visible(VisMethod::Clipping),
-        "hemicube" => AnyMethod::Row(RowMethod::Hemicube),
-        "single-plane" => AnyMethod::Row(RowMethod::SinglePlane),
-        "raytrace" => AnyMethod::Row(RowMethod::Raytrace),
-        "nusselt" => AnyMethod::Row(RowMethod::Nusselt),
-        other => {
-            return Err(Error::InvalidArgument(format!("method {other:?} is listed but not wired (internal error)")))
-        }
-    };
+    let method =
+        WIRING.iter().find(|w| w.0 == name).map(|w| w.1).ok_or_else(|| {
+            Error::InvalidArgument(format!("method {name:?} is listed but not wired (internal error)"))
+        })?;
     let mut o = AllOptions::default();
     for (spec_o, v) in &values {
         apply(name, spec_o.name, v, &mut o)?;
@@ -554,6 +546,16 @@ mod tests {
         let e = configure("adaptive", &[("nodes".into(), Value::Int(3))]).unwrap_err().to_string();
         assert!(e.contains("no option nodes"), "{e}");
         assert!(configure("nope", &[]).is_err());
+    }
+
+    #[test]
+    fn every_listed_method_is_wired_once_and_named_back() {
+        assert_eq!(WIRING.len(), METHODS.len());
+        for m in METHODS {
+            let (method, _) = configure(m.name, &[]).unwrap();
+            assert_eq!(name_of(method), m.name);
+        }
+        assert_eq!(name_of(AnyMethod::Exact(Method::Auto)), "auto");
     }
 
     #[test]

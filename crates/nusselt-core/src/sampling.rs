@@ -12,6 +12,7 @@
 //! the functions can run on any number of threads.
 
 use crate::geometry::{Polygon, Vec3};
+use crate::quadrature::{AreaRule, MAX_ORDER};
 use std::f64::consts::FRAC_PI_4;
 
 /// Largest index `sobol_burley` accepts in one scrambled sequence.
@@ -142,73 +143,13 @@ impl PolygonSampler {
     }
 }
 
-/// Gauss-Legendre nodes and weights on [0, 1] (k >= 1), by Newton iteration on P_k from the
-/// Chebyshev-like initial guesses cos(pi (i + 3/4)/(k + 1/2)) (Numerical Recipes `gauleg`).
-pub fn gauss_legendre01(k: usize) -> Vec<(f64, f64)> {
-    let mut out = Vec::with_capacity(k);
-    for i in 0..k {
-        let mut x = (std::f64::consts::PI * (i as f64 + 0.75) / (k as f64 + 0.5)).cos();
-        let mut dp = 1.0;
-        for _ in 0..100 {
-            // P_k(x) and P_k'(x) by the three-term recurrence
-            let (mut p0, mut p1) = (1.0, x);
-            for n in 2..=k {
-                let p2 = ((2 * n - 1) as f64 * x * p1 - (n - 1) as f64 * p0) / n as f64;
-                p0 = p1;
-                p1 = p2;
-            }
-            let pk = if k == 1 { x } else { p1 };
-            let pkm1 = if k == 1 { 1.0 } else { p0 };
-            dp = k as f64 * (x * pk - pkm1) / (x * x - 1.0);
-            let dx = pk / dp;
-            x -= dx;
-            if dx.abs() < 1e-16 {
-                break;
-            }
-        }
-        let w = 2.0 / ((1.0 - x * x) * dp * dp);
-        out.push((0.5 * (1.0 - x), 0.5 * w));
-    }
-    out
-}
-
-/// Area quadrature of a polygon with weights summing to 1: a k x k Gauss-Legendre product
-/// rule through the bilinear map for a convex quadrilateral, else through the collapsed
-/// (Duffy) map x = a + s(b - a) + s t (c - b), Jacobian 2 A s, on each triangle of the
-/// triangulation (Stroud's conical product rule). Exact for bilinear integrands (quads) and
-/// polynomials of degree 2k - 2 (triangles); k = 1 on a parallelogram is its centroid.
+/// The Gauss area rule of [`AreaRule`] of order k (clamped to 1..=64) on `poly` with weights
+/// summing to 1: source points for the row methods.
 pub fn polygon_gauss_points(poly: &Polygon, k: usize, out: &mut Vec<(Vec3, f64)>) {
     out.clear();
-    let g = gauss_legendre01(k.max(1));
-    let v = poly.vertices();
-    let n = poly.normal();
+    let rule = AreaRule::new(poly, k.clamp(1, MAX_ORDER));
     let total = poly.area();
-    let convex_quad =
-        v.len() == 4 && (0..4).all(|i| (v[(i + 1) % 4] - v[i]).cross(v[(i + 2) % 4] - v[(i + 1) % 4]).dot(n) > 0.0);
-    if convex_quad {
-        for &(s, ws) in &g {
-            for &(t, wt) in &g {
-                let x =
-                    v[0] * ((1.0 - s) * (1.0 - t)) + v[1] * (s * (1.0 - t)) + v[2] * (s * t) + v[3] * ((1.0 - s) * t);
-                let ds = (v[1] - v[0]) * (1.0 - t) + (v[2] - v[3]) * t;
-                let dt = (v[3] - v[0]) * (1.0 - s) + (v[2] - v[1]) * s;
-                out.push((x, ws * wt * ds.cross(dt).dot(n) / total));
-            }
-        }
-        return;
-    }
-    for tri in poly.triangulate() {
-        let (a, b, c) = (v[tri[0]], v[tri[1]], v[tri[2]]);
-        let area = 0.5 * (b - a).cross(c - a).dot(n);
-        if area <= 0.0 {
-            continue;
-        }
-        for &(s, ws) in &g {
-            for &(t, wt) in &g {
-                out.push((a + (b - a) * s + (c - b) * (s * t), ws * wt * 2.0 * area * s / total));
-            }
-        }
-    }
+    out.extend(rule.points.iter().zip(&rule.weights).map(|(&x, &w)| (x, w / total)));
 }
 
 #[cfg(test)]
@@ -304,14 +245,7 @@ mod tests {
     }
 
     #[test]
-    fn gauss_rules_integrate_polynomials() {
-        for k in 1..=8 {
-            let g = gauss_legendre01(k);
-            for d in 0..2 * k {
-                let q: f64 = g.iter().map(|&(x, w)| w * x.powi(d as i32)).sum();
-                assert!((q - 1.0 / (d as f64 + 1.0)).abs() < 1e-14, "k {k} degree {d}: {q}");
-            }
-        }
+    fn gauss_points_have_unit_weight_and_polygon_moments() {
         // skewed convex quad and concave L: weights sum to 1, first moments give the centroid,
         // and the L's mean of x^2 is that of its three unit squares
         let quad = Polygon::new(vec![

@@ -23,13 +23,12 @@ use crate::unobstructed::rows as unobstructed_rows;
 use crate::visibility::{Bvh, Occluders};
 use crate::work;
 use rayon::prelude::*;
-use std::str::FromStr;
 use std::sync::atomic::AtomicBool;
 use std::sync::OnceLock;
 
 mod points;
 
-/// Every method by name (design.md).
+/// Every method; [`crate::registry`] maps the names users give to it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum AnyMethod {
     /// Unobstructed pair kernels: `analytic`, `contour` (and `auto` without blockers).
@@ -47,21 +46,6 @@ pub enum RowMethod {
     SinglePlane,
     Raytrace,
     Nusselt,
-}
-
-impl FromStr for AnyMethod {
-    type Err = Error;
-    fn from_str(s: &str) -> Result<Self> {
-        Ok(match s {
-            "analytic" => AnyMethod::Exact(Method::Analytic),
-            "contour" => AnyMethod::Exact(Method::Contour),
-            "hemicube" => AnyMethod::Row(RowMethod::Hemicube),
-            "single-plane" => AnyMethod::Row(RowMethod::SinglePlane),
-            "raytrace" => AnyMethod::Row(RowMethod::Raytrace),
-            "nusselt" => AnyMethod::Row(RowMethod::Nusselt),
-            other => AnyMethod::Visible(VisMethod::from_str(other)?),
-        })
-    }
 }
 
 /// The options of every method; each method reads its own ([`crate::registry::configure`]
@@ -118,6 +102,51 @@ pub struct Scene {
 /// bench/obstructed.py (1500 patches) anything from 8 to the whole row took the same time
 /// within the host's noise.
 const CLUSTER: usize = 32;
+
+/// The receivers `items` (indices, in Morton order) in clusters of [`CLUSTER`], each halved
+/// while something may block it: `candidates(cluster, parent, out)` writes the candidate
+/// blockers of the cluster's box (searching only `parent`, the enclosing cluster's answer,
+/// when there is one); a cluster with none is unobstructed as a whole and skipped. Clusters
+/// of two or fewer get `leaf(cluster, among)` with their parent's answer, for each pair to
+/// test its own shaft against.
+fn blocked_clusters<'a>(
+    items: &'a [u32],
+    mut candidates: impl FnMut(&'a [u32], Option<&[u32]>, &mut Vec<u32>),
+    mut leaf: impl FnMut(&'a [u32], &[u32]) -> Result<()>,
+) -> Result<()> {
+    let mut stack: Vec<(&[u32], Option<Vec<u32>>)> = items.chunks(CLUSTER).rev().map(|c| (c, None)).collect();
+    while let Some((cluster, parent)) = stack.pop() {
+        let among = match parent {
+            Some(parent) if cluster.len() <= 2 => parent,
+            parent => {
+                let mut among = Vec::new();
+                candidates(cluster, parent.as_deref(), &mut among);
+                if among.is_empty() {
+                    continue;
+                }
+                if cluster.len() > 2 {
+                    let (x, y) = cluster.split_at(cluster.len() / 2);
+                    stack.push((y, Some(among.clone())));
+                    stack.push((x, Some(among)));
+                    continue;
+                }
+                among
+            }
+        };
+        leaf(cluster, &among)?;
+    }
+    Ok(())
+}
+
+/// The bounding box of the vertices of `polys`.
+fn bounding_box<'a>(polys: impl Iterator<Item = &'a Polygon>) -> (Vec3, Vec3) {
+    let (mut lo, mut hi) = (Vec3::splat(f64::INFINITY), Vec3::splat(f64::NEG_INFINITY));
+    for v in polys.flat_map(|q| q.vertices()) {
+        lo = lo.min(*v);
+        hi = hi.max(*v);
+    }
+    (lo, hi)
+}
 
 /// Each polygon's rank in the Morton (Z-order) sequence of the centroids, 21 bits per axis of
 /// the scene's box: polygons close in rank are close in space.
@@ -313,52 +342,29 @@ impl Scene {
                 let mut std = vec![0.0; g.len()];
                 let mut order: Vec<u32> = (0..cols.len() as u32).collect();
                 order.sort_unstable_by_key(|&k| ranks[cols[k as usize] as usize]);
-                // Clusters of receivers, halved while something may block: a cluster whose
-                // shaft meets nothing is unobstructed as a whole.
-                let mut stack: Vec<(&[u32], Option<Vec<u32>>)> =
-                    order.chunks(CLUSTER).rev().map(|c| (c, None)).collect();
-                // Pairs of two or fewer test their own shafts against the parent's answer.
-                while let Some((cluster, parent)) = stack.pop() {
-                    let among = match parent {
-                        Some(parent) if cluster.len() <= 2 => parent,
-                        parent => {
-                            let (mut lo, mut hi) = (Vec3::splat(f64::INFINITY), Vec3::splat(f64::NEG_INFINITY));
-                            for v in cluster.iter().flat_map(|&k| p[cols[k as usize] as usize].vertices()) {
-                                lo = lo.min(*v);
-                                hi = hi.max(*v);
-                            }
-                            let mut among = Vec::new();
-                            ctx.vis.candidates_toward_box(
-                                &p[i],
-                                lo,
-                                hi,
-                                &[ctx.occluders.owner[i]],
-                                parent.as_deref(),
-                                &mut among,
-                            );
-                            if among.is_empty() {
-                                continue;
-                            }
-                            if cluster.len() > 2 {
-                                let (x, y) = cluster.split_at(cluster.len() / 2);
-                                stack.push((y, Some(among.clone())));
-                                stack.push((x, Some(among)));
-                                continue;
-                            }
-                            among
+                // Clusters of receivers, halved while something may block; pairs of two or
+                // fewer test their own shafts against the parent's answer.
+                let own = [ctx.occluders.owner[i]];
+                blocked_clusters(
+                    &order,
+                    |cluster, parent, among| {
+                        let (lo, hi) = bounding_box(cluster.iter().map(|&k| &p[cols[k as usize] as usize]));
+                        ctx.vis.candidates_toward_box(&p[i], lo, hi, &own, parent, among);
+                    },
+                    |cluster, among| {
+                        for &k in cluster {
+                            let (k, j) = (k as usize, cols[k as usize] as usize);
+                            let known = obstructed::Known { free: Some(g0[k]), among: Some(among) };
+                            let est = work::metered(
+                                o.budget,
+                                || pair_what(AnyMethod::Visible(vm), i, j),
+                                || obstructed::pair_with(&ctx, i, j, vm, &vo, known),
+                            )?;
+                            (g[k], std[k]) = (est.value, est.std_err);
                         }
-                    };
-                    for &k in cluster {
-                        let (k, j) = (k as usize, cols[k as usize] as usize);
-                        let known = obstructed::Known { free: Some(g0[k]), among: Some(&among) };
-                        let est = work::metered(
-                            o.budget,
-                            || pair_what(AnyMethod::Visible(vm), i, j),
-                            || obstructed::pair_with(&ctx, i, j, vm, &vo, known),
-                        )?;
-                        (g[k], std[k]) = (est.value, est.std_err);
-                    }
-                }
+                        Ok(())
+                    },
+                )?;
                 let keep: Vec<usize> = (0..g.len()).filter(|&k| g[k] != 0.0 || std[k] != 0.0).collect();
                 Ok(PairRow {
                     cols: keep.iter().map(|&k| cols[k] as u32).collect(),

@@ -168,55 +168,10 @@ fn im_li2_series(r: f64, t: f64) -> f64 {
     acc
 }
 
-/// Gauss-Legendre nodes and weights on [-1, 1]: Newton iteration on P_n from Tricomi's
-/// initial guess (Numerical Recipes `gauleg`). A few ulps accurate for n up to several hundred.
-pub fn gauss_legendre(n: usize) -> (Vec<f64>, Vec<f64>) {
-    let mut x = vec![0.0; n];
-    let mut w = vec![0.0; n];
-    if n == 0 {
-        return (x, w);
-    }
-    let nf = n as f64;
-    // P_n(z) and P_n'(z) by the three-term recurrence.
-    let legendre = |z: f64| {
-        let (mut p0, mut p1) = (1.0, z);
-        for k in 2..=n {
-            let kf = k as f64;
-            let p2 = ((2.0 * kf - 1.0) * z * p1 - (kf - 1.0) * p0) / kf;
-            p0 = p1;
-            p1 = p2;
-        }
-        if n == 1 {
-            p0 = 1.0;
-        }
-        (p1, nf * (z * p1 - p0) / (z * z - 1.0))
-    };
-    for i in 0..n.div_ceil(2) {
-        let mut z = (PI * (i as f64 + 0.75) / (nf + 0.5)).cos();
-        if n % 2 == 1 && i == n / 2 {
-            z = 0.0;
-        }
-        for _ in 0..100 {
-            let (p, dp) = legendre(z);
-            let dz = p / dp;
-            z -= dz;
-            if dz.abs() <= 1e-16 {
-                break;
-            }
-        }
-        let (_, dp) = legendre(z);
-        let wi = 2.0 / ((1.0 - z * z) * dp * dp);
-        x[i] = -z;
-        x[n - 1 - i] = z;
-        w[i] = wi;
-        w[n - 1 - i] = wi;
-    }
-    (x, w)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::quadrature::gauss::gauss_legendre_pm1 as gauss_legendre;
 
     /// Composite Gauss-Legendre of f on [a, b] with `panels` panels of `n` nodes.
     fn quad(f: impl Fn(f64) -> f64, a: f64, b: f64, panels: usize, n: usize) -> f64 {

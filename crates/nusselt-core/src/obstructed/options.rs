@@ -19,21 +19,6 @@ pub enum VisMethod {
     Clipping,
 }
 
-impl std::str::FromStr for VisMethod {
-    type Err = Error;
-    fn from_str(s: &str) -> Result<Self> {
-        Ok(match s {
-            "auto" => VisMethod::Auto,
-            "quadrature" => VisMethod::Quadrature,
-            "montecarlo" => VisMethod::MonteCarlo,
-            "subdivision" => VisMethod::Subdivision,
-            "adaptive" => VisMethod::Adaptive,
-            "clipping" => VisMethod::Clipping,
-            _ => return Err(Error::InvalidArgument(format!("unknown method {s:?}"))),
-        })
-    }
-}
-
 #[derive(Debug, Clone, PartialEq)]
 pub struct VisOptions {
     /// Unobstructed accuracy target of `auto` (relative), see [`method::Options::tol`].

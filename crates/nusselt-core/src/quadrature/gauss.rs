@@ -33,6 +33,13 @@ pub fn gauss_legendre(n: usize) -> &'static [(f64, f64)] {
     tables().legendre[n - 1].get_or_init(|| legendre_rule(n))
 }
 
+/// [`gauss_legendre`] on [-1, 1] as node and weight vectors, the textbook form the tests'
+/// reference integrals are written in.
+#[cfg(test)]
+pub(crate) fn gauss_legendre_pm1(n: usize) -> (Vec<f64>, Vec<f64>) {
+    gauss_legendre(n).iter().map(|&(u, w)| (2.0 * u - 1.0, 2.0 * w)).unzip()
+}
+
 /// Checked [`gauss_legendre`].
 pub fn try_gauss_legendre(n: usize) -> Result<&'static [(f64, f64)]> {
     check_order(n, "Gauss-Legendre order")?;

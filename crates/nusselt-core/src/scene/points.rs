@@ -10,7 +10,7 @@
 //! their own pay for visibility: the exact visible region from the point
 //! ([`point_visible_view_factor`]), or the per-point estimator of the method asked for.
 
-use super::{morton_ranks, AllOptions, AnyMethod, Scene, CLUSTER};
+use super::{blocked_clusters, bounding_box, morton_ranks, AllOptions, AnyMethod, Scene};
 use crate::error::{Error, Result};
 use crate::geometry::{tangent_frame, Polygon, Vec3};
 use crate::matrix::PairBlock;
@@ -482,59 +482,44 @@ fn point_row_with(
     let skip_ids: Vec<u32> = skip.into_iter().collect();
     let mut f: Vec<f64> = free.iter().map(|e| e.1).collect();
     let idx: Vec<u32> = (0..free.len() as u32).collect();
-    let mut stack: Vec<(&[u32], Option<Vec<u32>>)> = idx.chunks(CLUSTER).rev().map(|c| (c, None)).collect();
     let (mut cand, mut ignore) = (Vec::new(), Vec::with_capacity(2));
-    while let Some((cluster, parent)) = stack.pop() {
-        let among = match parent {
-            Some(parent) if cluster.len() <= 2 => parent,
-            parent => {
-                let (mut lo, mut hi) = (Vec3::splat(f64::INFINITY), Vec3::splat(f64::NEG_INFINITY));
-                for v in cluster.iter().flat_map(|&q| polys[free[q as usize].0 as usize].vertices()) {
-                    lo = lo.min(*v);
-                    hi = hi.max(*v);
+    blocked_clusters(
+        &idx,
+        |cluster, parent, among| {
+            let (lo, hi) = bounding_box(cluster.iter().map(|&q| &polys[free[q as usize].0 as usize]));
+            // A cluster of targets with one occluder (tiles of one wall) cannot be blocked
+            // by it: each pair ignores its own occluder anyway.
+            let first = t.own[free[cluster[0] as usize].0 as usize];
+            let one = cluster.iter().all(|&q| t.own[free[q as usize].0 as usize] == first);
+            let mut ids = skip_ids.clone();
+            if one {
+                ids.push(first);
+            }
+            ctx.vis.candidates_toward_box(&src, lo, hi, &ids, parent, among);
+        },
+        |cluster, among| {
+            for &q in cluster {
+                let k = free[q as usize].0 as usize;
+                let b = &polys[k];
+                ignore.clear();
+                ignore.push(t.own[k]);
+                ignore.extend(skip);
+                if !cone_candidates(p, b, &ignore, among, &ctx.occluders.polygons, &mut cand) {
+                    ctx.vis.candidates_among(&src, b, &ignore, among, &mut cand);
                 }
-                // A cluster of targets with one occluder (tiles of one wall) cannot be blocked
-                // by it: each pair ignores its own occluder anyway.
-                let first = t.own[free[cluster[0] as usize].0 as usize];
-                let one = cluster.iter().all(|&q| t.own[free[q as usize].0 as usize] == first);
-                let mut ids = skip_ids.clone();
-                if one {
-                    ids.push(first);
-                }
-                let mut among = Vec::new();
-                ctx.vis.candidates_toward_box(&src, lo, hi, &ids, parent.as_deref(), &mut among);
-                if among.is_empty() {
+                if cand.is_empty() {
                     continue;
                 }
-                if cluster.len() > 2 {
-                    let (x, y) = cluster.split_at(cluster.len() / 2);
-                    stack.push((y, Some(among.clone())));
-                    stack.push((x, Some(among)));
-                    continue;
-                }
-                among
+                let blockers: Vec<&Polygon> = cand.iter().map(|&c| &ctx.occluders.polygons[c as usize]).collect();
+                f[q as usize] = if blockers.iter().any(|bl| hides_whole(&[p], b.vertices(), bl)) {
+                    0.0
+                } else {
+                    hard(p, n, k, &blockers)?
+                };
             }
-        };
-        for &q in cluster {
-            let k = free[q as usize].0 as usize;
-            let b = &polys[k];
-            ignore.clear();
-            ignore.push(t.own[k]);
-            ignore.extend(skip);
-            if !cone_candidates(p, b, &ignore, &among, &ctx.occluders.polygons, &mut cand) {
-                ctx.vis.candidates_among(&src, b, &ignore, &among, &mut cand);
-            }
-            if cand.is_empty() {
-                continue;
-            }
-            let blockers: Vec<&Polygon> = cand.iter().map(|&c| &ctx.occluders.polygons[c as usize]).collect();
-            f[q as usize] = if blockers.iter().any(|bl| hides_whole(&[p], b.vertices(), bl)) {
-                0.0
-            } else {
-                hard(p, n, k, &blockers)?
-            };
-        }
-    }
+            Ok(())
+        },
+    )?;
     let mut row: Vec<(u32, f64)> = free.iter().zip(&f).filter(|(_, &v)| v != 0.0).map(|(e, &v)| (e.0, v)).collect();
     row.sort_unstable_by_key(|e| e.0);
     Ok(row)

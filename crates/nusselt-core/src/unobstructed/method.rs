@@ -22,18 +22,6 @@ pub enum Method {
     Contour,
 }
 
-impl std::str::FromStr for Method {
-    type Err = Error;
-    fn from_str(s: &str) -> Result<Self> {
-        Ok(match s {
-            "auto" => Method::Auto,
-            "analytic" => Method::Analytic,
-            "contour" => Method::Contour,
-            _ => return Err(Error::InvalidArgument(format!("unknown method {s:?}"))),
-        })
-    }
-}
-
 /// Options of the pair methods (each method reads the ones it documents).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Options {

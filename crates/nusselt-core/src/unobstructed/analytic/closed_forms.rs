@@ -227,7 +227,7 @@ pub fn point_rectangle_corner_perpendicular(a: f64, b: f64, c: f64) -> Result<f6
 mod tests {
     use super::*;
     use crate::geometry::Vec3;
-    use crate::special::gauss_legendre;
+    use crate::quadrature::gauss::gauss_legendre_pm1 as gauss_legendre;
     use crate::unobstructed::analytic::lambert::point_polygon;
 
     /// Breakpoints on [a, b], graded geometrically (ratio 1/4, `levels` times) toward a and/or b.

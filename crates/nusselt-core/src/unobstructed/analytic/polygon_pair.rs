@@ -386,7 +386,7 @@ pub fn polygon_pair_within(a: &Polygon, b: &Polygon, tol: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::special::gauss_legendre;
+    use crate::quadrature::gauss::gauss_legendre_pm1 as gauss_legendre;
     use crate::unobstructed::analytic::closed_forms as cf;
 
     /// Both evaluation routes of a skew edge pair, forced (closed form, single-line form).
