@@ -123,9 +123,11 @@ def test_physical_bounds_and_units(method):
         assert fmm == pytest.approx(f, abs=1e-6 if method == "adaptive" else 1e-9)
 
 
-def room_with_crate(n=3):
+def room_with_crate(n=3, m=1):
+    """The 3 m cube room (walls n x n quads facing in) with a unit crate floating inside (faces
+    m x m quads facing out); n, m = 6, 3 is the 270-patch room of bench/methods.py."""
     polys, face = cube_faces(n, size=3.0)
-    crate, cface = cube_faces(1, size=1.0)
+    crate, cface = cube_faces(m, size=1.0)
     # the crate's faces point outward: reverse the inward cube's orientation, move it inside
     crate = [c[::-1] + np.array([0.8, 0.7, 1.1]) for c in crate]  # floating: every face sees the room
     return polys + crate, list(face) + [6 + k for k in cface]
