@@ -162,7 +162,7 @@ def room_pairs(count=6, seed=1):
 def pair_references(pairs):
     """`clipping` at tol 1e-10 for each pair (the plates' is checked against dblquad)."""
     ref = []
-    for name, a, b, obs in pairs:
+    for _name, a, b, obs in pairs:
         f = nusselt.view_factor(a, b, obstacles=obs, method="clipping", tol=1e-10)
         free = nusselt.view_factor(a, b)
         ref.append((f, free))
@@ -350,6 +350,61 @@ def scenes_table(args):
     return rows_out
 
 
+def budget(args):
+    """Work units per CPU second: the smallest budget a pair passes (bisection to 2 %), over
+    the CPU of the unbudgeted call (plates with a turned blocker)."""
+    a, b = rect(0, 1, 0, 1), rect(0, 1, 0, 1, z=1, flip=True)
+    obs = [rotz(rect(0.1, 0.6, 0.3, 0.9, z=0.3), 20)]
+
+    def passes(m, o, units):
+        try:
+            nusselt.view_factor(a, b, obstacles=obs, method=m, budget=units, **o)
+            return True
+        except ValueError as e:
+            assert "budget" in str(e), e
+            return False
+
+    settings = [("subdivision", {}), ("adaptive", {}), ("montecarlo", {}), ("quadrature", {}), ("clipping", {})]
+    settings.append(("subdivision", {"divisions": 64, "source": 16}))
+    for m, o in settings:
+        lo, hi = 1, 1 << 40
+        while hi - lo > max(1, lo // 50):
+            mid = (lo + hi) // 2
+            lo, hi = (lo, mid) if passes(m, o, mid) else (mid, hi)
+        _, c = repeated_cpu(lambda: nusselt.view_factor(a, b, obstacles=obs, method=m, **o), min_total=0.3)
+        print(f"{m:12s} {str(o):34s} units {hi:>11d}  CPU {c * 1e3:9.2f} ms  units/s {hi / c:.2e}", flush=True)
+
+
+def plot(rows, path):
+    """Surface error vs CPU (log-log), one marker per method and scene (matplotlib)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(7.5, 5))
+    for key, marker in (("room", "o"), ("office", "s"), ("urban", "^")):
+        pts = [r for r in rows if r["scene"] == key and r.get("surface_err") is not None]
+        for r in pts:
+            err = max(r["surface_err"], 1e-16)
+            ax.scatter(
+                r["cpu"],
+                err,
+                marker=marker,
+                color="C0" if r["method"] in PAIR_METHODS + ["auto", "clipping", "analytic", "contour"] else "C3",
+            )
+            ax.annotate(r["method"], (r["cpu"], err), fontsize=7, xytext=(3, 3), textcoords="offset points")
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel("CPU seconds (user + sys, RAYON_NUM_THREADS=2)")
+    ax.set_ylabel("max surface-level |F - F_auto|")
+    ax.set_title("Every method at its defaults: 270-patch room with a crate (blue: pair, red: row methods)")
+    ax.title.set_fontsize(9)
+    ax.grid(True, which="both", alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     sub = ap.add_subparsers(dest="what", required=True)
@@ -363,6 +418,7 @@ def main():
     t.add_argument("--methods", nargs="+", default=ALL_METHODS)
     t.add_argument("--rows", type=int, default=12, help="rows sampled on the big scenes")
     t.add_argument("--json")
+    t.add_argument("--plot", help="write the accuracy-vs-CPU plot (PNG) here")
     c.add_argument(
         "--setting", action="append", default=[], help="METHOD:JSON options, e.g. 'quadrature:{\"order\": 8}'"
     )
@@ -371,7 +427,11 @@ def main():
         args.settings = [(s.split(":", 1)[0], json.loads(s.split(":", 1)[1])) for s in args.setting] or None
         curves(args)
     elif args.what == "scenes":
-        scenes_table(args)
+        rows = scenes_table(args)
+        if args.plot:
+            plot(rows, args.plot)
+    else:
+        budget(args)
 
 
 if __name__ == "__main__":
