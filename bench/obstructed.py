@@ -13,27 +13,17 @@ gives the exact answer independently of nusselt.
 from __future__ import annotations
 
 import argparse
+import os
+import sys
 import time
 
 import numpy as np
 from scipy.integrate import dblquad
 
-import nusselt
+sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "tests"))
+from conftest import parallel_rect, rect  # noqa: E402  (Howell's corner formula, shared with the tests)
 
-
-def corner(a, b, c):
-    if a <= 0 or b <= 0:
-        return 0.0
-    x, y = a / c, b / c
-    return (
-        x / np.sqrt(1 + x * x) * np.arctan(y / np.sqrt(1 + x * x))
-        + y / np.sqrt(1 + y * y) * np.arctan(x / np.sqrt(1 + y * y))
-    ) / (2 * np.pi)
-
-
-def rect_f(px, py, x0, x1, y0, y1):
-    s = lambda u, v: np.sign(u) * np.sign(v) * corner(abs(u), abs(v), 1.0)
-    return s(x1 - px, y1 - py) - s(x0 - px, y1 - py) - s(x1 - px, y0 - py) + s(x0 - px, y0 - py)
+import nusselt  # noqa: E402
 
 
 def exact(blocker, h):
@@ -42,15 +32,10 @@ def exact(blocker, h):
     def f(y, x):
         sx0, sx1 = max(0.0, x + (bx0 - x) / h), min(1.0, x + (bx1 - x) / h)
         sy0, sy1 = max(0.0, y + (by0 - y) / h), min(1.0, y + (by1 - y) / h)
-        sh = rect_f(x, y, sx0, sx1, sy0, sy1) if sx1 > sx0 and sy1 > sy0 else 0.0
-        return rect_f(x, y, 0, 1, 0, 1) - sh
+        sh = parallel_rect(x, y, sx0, sx1, sy0, sy1, 1.0) if sx1 > sx0 and sy1 > sy0 else 0.0
+        return parallel_rect(x, y, 0, 1, 0, 1, 1.0) - sh
 
     return dblquad(f, 0, 1, 0, 1, epsabs=1e-13, epsrel=1e-12)[0]
-
-
-def rect(x0, x1, y0, y1, z, flip=False):
-    v = np.array([[x0, y0, z], [x1, y0, z], [x1, y1, z], [x0, y1, z]], float)
-    return v[::-1].copy() if flip else v
 
 
 PROBLEMS = {

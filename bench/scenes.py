@@ -27,10 +27,16 @@ furniture, and objects standing on the floor need no special meshing.
 
 from __future__ import annotations
 
+import os
+import sys
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
+
+# the prism, the faceted sphere and Howell's corner formula are the tests' (tests/conftest.py)
+sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "tests"))
+from conftest import parallel_rect, prism, uv_sphere  # noqa: E402
 
 
 @dataclass
@@ -216,43 +222,6 @@ def office(max_edge: float = 0.36) -> Spec:
     return Spec("office", polys, surf, closed=True, meta={"grid": (len(xs), len(ys), len(zs))})
 
 
-def prism(r: float, n: int, inward: bool, rings: int = 1) -> list[np.ndarray]:
-    """The n side walls of a regular prism of radius r, height 1 (open ends), each wall split
-    into `rings` quads along the height; normals inward or outward."""
-    out = []
-    for k in range(n):
-        a0, a1 = 2 * np.pi * k / n, 2 * np.pi * (k + 1) / n
-        for h in range(rings):
-            z0, z1 = h / rings, (h + 1) / rings
-            q = np.array(
-                [
-                    [r * np.cos(a0), r * np.sin(a0), z0],
-                    [r * np.cos(a1), r * np.sin(a1), z0],
-                    [r * np.cos(a1), r * np.sin(a1), z1],
-                    [r * np.cos(a0), r * np.sin(a0), z1],
-                ]
-            )
-            out.append(q[::-1].copy() if inward else q)  # counter-clockwise seen from outside
-    return out
-
-
-def uv_sphere(radius: float, nu: int, nv: int, centre) -> list[np.ndarray]:
-    """A closed faceted sphere, normals inward (quads, triangles at the poles)."""
-    centre = np.asarray(centre, float)
-    out = []
-    at = lambda t, a: centre + radius * np.array([np.sin(t) * np.cos(a), np.sin(t) * np.sin(a), np.cos(t)])
-    for i in range(nv):
-        t0, t1 = np.pi * i / nv, np.pi * (i + 1) / nv
-        for k in range(nu):
-            a0, a1 = 2 * np.pi * k / nu, 2 * np.pi * (k + 1) / nu
-            q = [at(t0, a0), at(t1, a0), at(t1, a1), at(t0, a1)]
-            q = np.array(q[:3] if i == 0 else [q[0], q[1], q[3]] if i == nv - 1 else q)
-            if np.cross(q[1] - q[0], q[2] - q[0]) @ (q.mean(0) - centre) > 0:
-                q = q[::-1].copy()
-            out.append(q)
-    return out
-
-
 def blocked_cylinder(sides: int = 16, rings: int = 4, nu: int = 32, nv: int = 13) -> Spec:
     """Inner prism (radius 0.125, outward) inside an open outer prism (0.25, inward) inside a
     sphere of radius 3 (inward): 2 * 16 * 4 + 32 * 13 = 544 polygons. What leaves the inner
@@ -289,31 +258,14 @@ def blocker_plates(n_lower: tuple[int, int], n_upper: tuple[int, int] | None = N
     return Spec("blocker plates", polys, surf, obstruction=obstruction, meta={"pairs": len(lo) * len(hi)})
 
 
-def _corner(a: float, b: float) -> float:
-    """F from a point to an a x b rectangle in a parallel plane at distance 1, the point
-    facing the rectangle's corner (Howell's catalogue, B-4)."""
-    if a <= 0 or b <= 0:
-        return 0.0
-    x, y = a, b
-    return (
-        x / np.sqrt(1 + x * x) * np.arctan(y / np.sqrt(1 + x * x))
-        + y / np.sqrt(1 + y * y) * np.arctan(x / np.sqrt(1 + y * y))
-    ) / (2 * np.pi)
-
-
-def _rect_f(px, py, x0, x1, y0, y1):
-    s = lambda u, v: np.sign(u) * np.sign(v) * _corner(abs(u), abs(v))
-    return s(x1 - px, y1 - py) - s(x0 - px, y1 - py) - s(x1 - px, y0 - py) + s(x0 - px, y0 - py)
-
-
 def blocker_plates_point(x: float, y: float) -> float:
     """The visible F from (x, y, 0) to the upper plate: the blocker's shadow on z = 1 is a
     rectangle, so it is the unobstructed F minus the shadow's (superposition)."""
     bx0, bx1, by0, by1, h = BLOCKER
     sx0, sx1 = max(0.0, x + (bx0 - x) / h), min(1.0, x + (bx1 - x) / h)
     sy0, sy1 = max(0.0, y + (by0 - y) / h), min(1.0, y + (by1 - y) / h)
-    sh = _rect_f(x, y, sx0, sx1, sy0, sy1) if sx1 > sx0 and sy1 > sy0 else 0.0
-    return _rect_f(x, y, 0, 1, 0, 1) - sh
+    sh = parallel_rect(x, y, sx0, sx1, sy0, sy1, 1.0) if sx1 > sx0 and sy1 > sy0 else 0.0
+    return parallel_rect(x, y, 0, 1, 0, 1, 1.0) - sh
 
 
 def blocker_plates_exact() -> float:

@@ -20,6 +20,7 @@ Run (about 5-10 s on two cores):
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import os
 import time
 
@@ -27,8 +28,8 @@ import numpy as np
 
 import nusselt
 from nusselt import radiosity
-from nusselt.cli import bundled
-from nusselt.render import render_rgb, vertex_values, write_png
+from nusselt.data import bundled
+from nusselt.render import CORNELL, render_rgb, vertex_values, write_png
 
 
 def main(argv=None) -> int:
@@ -68,13 +69,8 @@ def main(argv=None) -> int:
             f"R/G = {br[0] / br[1]:.2f} (white paint alone: {0.73 / 0.71:.2f} x the light's R/G)"
         )
     colours = radiosity.display_colours(sol.radiosity, emit)
-    image = render_rgb(
-        scene.polygons,
-        vertex_values(scene.polygons, colours, scene.surface),
-        eye=(278.0, 273.0, -800.0),
-        look=(0.0, 0.0, 1.0),
-        size=args.size,
-    )
+    camera = dataclasses.replace(CORNELL, size=args.size)
+    image = render_rgb(scene.polygons, vertex_values(scene.polygons, colours, scene.surface), camera)
     write_png(args.output, image)
     print(f"wrote {os.path.abspath(args.output)} ({time.perf_counter() - t0:.1f} s)")
     return 0

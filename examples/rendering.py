@@ -30,14 +30,15 @@ light leaves the box. Floor patches hidden under the blocks see only the blocks'
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import os
 import time
 
 import numpy as np
 
 import nusselt
-from nusselt.cli import bundled
-from nusselt.render import render, write_png
+from nusselt.data import bundled
+from nusselt.render import CORNELL, render, write_png
 
 # Diffuse reflectance per colour channel (R, G, B), roughly the published Cornell box values.
 WHITE = (0.73, 0.73, 0.73)
@@ -137,16 +138,7 @@ def main(argv=None) -> int:
     is_light = np.array([fine.surface_names[s] == "light" for s in fine.surface])
     value = np.minimum(value, value[~is_light].max())  # the light would swamp a linear scale
     value = value ** (1 / 2.2)  # display gamma, as an image viewer expects (tone mapping, not physics)
-    image = render(
-        fine.polygons,
-        value,
-        eye=(278.0, 273.0, -800.0),
-        look=(0.0, 0.0, 1.0),
-        up=(0.0, 1.0, 0.0),
-        fov_deg=39.3,
-        size=args.size,
-        log=False,
-    )
+    image = render(fine.polygons, value, dataclasses.replace(CORNELL, size=args.size), log=False)
     write_png(args.output, image)
     print(
         f"\nwrote {os.path.abspath(args.output)}: {args.channel} of every patch (flat, false colour, "

@@ -1,5 +1,21 @@
+"""Shared test helpers: polygons and scenes (rect, cube_faces, prism, uv_sphere), areas, and
+Howell's point-to-rectangle closed form. bench/ imports them too."""
+
+import pathlib
+import sys
+import types
+
 import numpy as np
 import pytest
+
+try:
+    import nusselt  # noqa: F401
+except ImportError:
+    # The compiled core is not built: the pure-Python modules (nusselt.io, nusselt.result) stay
+    # importable without nusselt/__init__, so the file-format tests run; the others fail to import.
+    _pkg = types.ModuleType("nusselt")
+    _pkg.__path__ = [str(pathlib.Path(__file__).resolve().parents[1] / "python" / "nusselt")]
+    sys.modules["nusselt"] = _pkg
 
 
 def rect(x0, x1, y0, y1, z=0.0, flip=False):
@@ -37,6 +53,61 @@ def cube_faces(n=1, size=1.0):
                     polys.append(q)
                     which.append(2 * axis + (side > 0))
     return polys, np.array(which)
+
+
+def corner(a, b, c):
+    """F from dA to an a x b rectangle in a parallel plane at distance c, the normal of dA
+    through one corner of it (Howell's catalogue, B-4)."""
+    if a <= 0 or b <= 0:
+        return 0.0
+    x, y = a / c, b / c
+    return (
+        x / np.sqrt(1 + x * x) * np.arctan(y / np.sqrt(1 + x * x))
+        + y / np.sqrt(1 + y * y) * np.arctan(x / np.sqrt(1 + y * y))
+    ) / (2 * np.pi)
+
+
+def parallel_rect(px, py, x0, x1, y0, y1, c):
+    """F from dA at (px, py) facing an axis-aligned rectangle at distance c, by corner superposition."""
+    s = lambda u, v: np.sign(u) * np.sign(v) * corner(abs(u), abs(v), c)
+    return s(x1 - px, y1 - py) - s(x0 - px, y1 - py) - s(x1 - px, y0 - py) + s(x0 - px, y0 - py)
+
+
+def prism(r, n, inward, rings=1):
+    """The n side walls of a regular prism of radius r, height 1 (open ends), each wall split
+    into ``rings`` quads along the height; normals inward or outward."""
+    out = []
+    for k in range(n):
+        a0, a1 = 2 * np.pi * k / n, 2 * np.pi * (k + 1) / n
+        for h in range(rings):
+            z0, z1 = h / rings, (h + 1) / rings
+            q = np.array(
+                [
+                    [r * np.cos(a0), r * np.sin(a0), z0],
+                    [r * np.cos(a1), r * np.sin(a1), z0],
+                    [r * np.cos(a1), r * np.sin(a1), z1],
+                    [r * np.cos(a0), r * np.sin(a0), z1],
+                ]
+            )
+            out.append(q[::-1].copy() if inward else q)  # counter-clockwise seen from outside
+    return out
+
+
+def uv_sphere(radius, nu, nv, centre):
+    """A closed faceted sphere, normals inward (quads, triangles at the poles)."""
+    centre = np.asarray(centre, float)
+    out = []
+    at = lambda t, a: centre + radius * np.array([np.sin(t) * np.cos(a), np.sin(t) * np.sin(a), np.cos(t)])
+    for i in range(nv):
+        t0, t1 = np.pi * i / nv, np.pi * (i + 1) / nv
+        for k in range(nu):
+            a0, a1 = 2 * np.pi * k / nu, 2 * np.pi * (k + 1) / nu
+            q = [at(t0, a0), at(t1, a0), at(t1, a1), at(t0, a1)]
+            q = np.array(q[:3] if i == 0 else [q[0], q[1], q[3]] if i == nv - 1 else q)
+            if np.cross(q[1] - q[0], q[2] - q[0]) @ (q.mean(0) - centre) > 0:
+                q = q[::-1].copy()
+            out.append(q)
+    return out
 
 
 @pytest.fixture

@@ -128,13 +128,12 @@ def test_a_block_of_another_scene_is_refused_even_with_a_manifest(tmp_path):
     [
         ({"method": "analytic"}, "the method ('auto' then, 'analytic' now)"),
         ({"tol": 1e-6}, "the options (tol="),
-        ({"block_size": 300}, "the block size (200 then, 300 now)"),
         ({"scene": "bigger"}, "the scene geometry"),
     ],
 )
 def test_a_refused_resume_says_what_changed(tmp_path, change, expect):
     scene, path, _ = _interrupted(tmp_path)
-    kw = {"checkpoint": path, "resume": True, "block_size": change.pop("block_size", 200)}
+    kw = {"checkpoint": path, "resume": True, "block_size": 200}
     if change.pop("scene", None):
         polys, which = cube_faces(3, size=1.5)
         scene = nusselt.Scene.from_polygons(polys, surface=[str(w) for w in which])
@@ -246,7 +245,7 @@ def test_a_removal_stopped_half_way_leaves_a_checkpoint_that_resumes(tmp_path, m
 
 def test_a_checkpoint_in_use_by_another_run_is_refused(tmp_path):
     scene = _scene(2)
-    run = ck.describe_run(scene, "auto", {}, "pairs", 200, 3)
+    run = ck.describe_run(scene, "auto", {}, "pairs")
     first = ck.Checkpoint(tmp_path / "ck", run, resume=False)
     try:
         code = (

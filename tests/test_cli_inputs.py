@@ -5,7 +5,8 @@ import pytest
 from conftest import cube_faces
 
 import nusselt
-from nusselt.cli import bundled, main
+from nusselt.cli import main
+from nusselt.data import bundled
 
 
 def write_obj(path, polys, names=None):

@@ -6,19 +6,7 @@ import pathlib
 import numpy as np
 import pytest
 
-try:
-    import nusselt.io as nio
-except ImportError:
-    # The compiled core is not built: load the pure-Python io package without nusselt/__init__.
-    import importlib
-    import sys
-    import types
-
-    _pkg = types.ModuleType("nusselt")
-    _pkg.__path__ = [str(pathlib.Path(__file__).resolve().parents[1] / "python" / "nusselt")]
-    sys.modules["nusselt"] = _pkg
-    nio = importlib.import_module("nusselt.io")
-    del sys.modules["nusselt"]
+import nusselt.io as nio
 
 BUNDLED = pathlib.Path(nio.__file__).resolve().parents[1] / "data"
 WALLS = ["floor", "ceiling", "back", "green", "red", "light"]

@@ -7,19 +7,7 @@ import pathlib
 import numpy as np
 import pytest
 
-try:
-    import nusselt.io as nio
-except ImportError:
-    # The compiled core is not built: load the pure-Python io package without nusselt/__init__.
-    import importlib
-    import sys
-    import types
-
-    _pkg = types.ModuleType("nusselt")
-    _pkg.__path__ = [str(pathlib.Path(__file__).resolve().parents[1] / "python" / "nusselt")]
-    sys.modules["nusselt"] = _pkg
-    nio = importlib.import_module("nusselt.io")
-    del sys.modules["nusselt"]
+import nusselt.io as nio
 
 DATA = pathlib.Path(__file__).parent / "data"
 
@@ -303,3 +291,25 @@ def test_file_level_errors(tmp_path):
         assert str(e.value).startswith(f"{p}: ")
     with pytest.raises(OSError, match="nope.vs3: no such file"):
         nio.read_scene(tmp_path / "nope.vs3")
+
+
+def test_list_control_is_accepted_silently_and_eps_still_warns(tmp_path):
+    # `list` only sets the detail of View3D's log (most files EnergyPlus's tools write say
+    # list=1): no warning for it, at any level; a control that would change View3D's numbers
+    # still says it is ignored.
+    import warnings
+
+    body = "F 3\nV 1 0 0 0\nV 2 1 0 0\nV 3 1 1 0\nV 4 0 1 0\nS 1 1 2 3 4 0 0 0.9 floor\nE\n"
+    for level in (0, 1, 2):
+        p = tmp_path / f"list{level}.vs3"
+        p.write_text(f"C encl=0 list={level}\n" + body)
+        with warnings.catch_warnings():
+            warnings.simplefilter("error")
+            d = nio.read_scene(p)
+        assert d.meta["list"] == level
+    p = tmp_path / "eps.vs3"
+    p.write_text("C list=1 eps=1e-4\n" + body)
+    with pytest.warns(UserWarning) as w:
+        nio.read_scene(p)
+    assert [str(x.message).split(": ", 1)[1] for x in w][0].startswith("control eps=1e-4 ignored")
+    assert len(w) == 1

@@ -9,20 +9,8 @@ import numpy as np
 import pytest
 import scipy.sparse as sp
 
-try:
-    import nusselt.io as nio
-    from nusselt.result import FormFactors
-except ImportError:
-    # The compiled core is not built: load the pure-Python modules without nusselt/__init__.
-    import importlib
-    import sys
-
-    _pkg = types.ModuleType("nusselt")
-    _pkg.__path__ = [str(pathlib.Path(__file__).resolve().parents[1] / "python" / "nusselt")]
-    sys.modules["nusselt"] = _pkg
-    nio = importlib.import_module("nusselt.io")
-    FormFactors = importlib.import_module("nusselt.result").FormFactors
-    del sys.modules["nusselt"]
+import nusselt.io as nio
+from nusselt.result import FormFactors
 
 DATA = pathlib.Path(__file__).parent / "data"
 

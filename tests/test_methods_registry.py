@@ -158,3 +158,12 @@ def test_ctrl_c_keeps_finished_blocks_on_disk(tmp_path):
     resumed = nusselt.form_factors(scene, checkpoint=ckpt, resume=True, **opts)
     whole = nusselt.form_factors(scene, **opts)
     assert abs(resumed.matrix - whole.matrix).max() == 0.0
+
+
+def test_method_name_type_lists_the_registry():
+    from typing import get_args
+
+    from nusselt.methods import MethodName
+
+    assert get_args(MethodName) == tuple(m["name"] for m in _core.methods())
+    assert nusselt.MethodName is MethodName

@@ -2,30 +2,13 @@
 
 import numpy as np
 import pytest
-from conftest import cube_faces, polygon_area, rect
+from conftest import cube_faces, parallel_rect, polygon_area, prism, rect, uv_sphere
 from scipy.integrate import dblquad
 
 import nusselt
 
 AREA_METHODS = ["quadrature", "montecarlo", "subdivision", "adaptive"]
 EXACT_METHODS = ["auto", "clipping"]
-
-
-def corner(a, b, c):
-    """dA parallel to an a x b rectangle at distance c, normal through one corner (Howell)."""
-    if a <= 0 or b <= 0:
-        return 0.0
-    x, y = a / c, b / c
-    return (
-        x / np.sqrt(1 + x * x) * np.arctan(y / np.sqrt(1 + x * x))
-        + y / np.sqrt(1 + y * y) * np.arctan(x / np.sqrt(1 + y * y))
-    ) / (2 * np.pi)
-
-
-def parallel_rect(px, py, x0, x1, y0, y1, c):
-    """dA at (px, py) facing an axis-aligned rectangle at distance c, by corner superposition."""
-    s = lambda u, v: np.sign(u) * np.sign(v) * corner(abs(u), abs(v), c)
-    return s(x1 - px, y1 - py) - s(x0 - px, y1 - py) - s(x1 - px, y0 - py) + s(x0 - px, y0 - py)
 
 
 def blocked_plates_point(x, y):
@@ -255,39 +238,6 @@ def test_point_next_to_a_partition(x, px):
             else 2e-3
         )
         assert f == pytest.approx(exact, abs=tol), method
-
-
-def prism(r, n, inward):
-    """The n side walls of a regular prism of radius r, height 1 (open ends)."""
-    out = []
-    for k in range(n):
-        a0, a1 = 2 * np.pi * k / n, 2 * np.pi * (k + 1) / n
-        q = np.array(
-            [
-                [r * np.cos(a0), r * np.sin(a0), 0],
-                [r * np.cos(a1), r * np.sin(a1), 0],
-                [r * np.cos(a1), r * np.sin(a1), 1],
-                [r * np.cos(a0), r * np.sin(a0), 1],
-            ]
-        )
-        out.append(q[::-1].copy() if inward else q)  # counter-clockwise seen from outside
-    return out
-
-
-def uv_sphere(radius, nu, nv, centre):
-    """A closed faceted sphere, normals inward (quads, triangles at the poles)."""
-    out = []
-    at = lambda t, a: centre + radius * np.array([np.sin(t) * np.cos(a), np.sin(t) * np.sin(a), np.cos(t)])
-    for i in range(nv):
-        t0, t1 = np.pi * i / nv, np.pi * (i + 1) / nv
-        for k in range(nu):
-            a0, a1 = 2 * np.pi * k / nu, 2 * np.pi * (k + 1) / nu
-            q = [at(t0, a0), at(t1, a0), at(t1, a1), at(t0, a1)]
-            q = np.array(q[:3] if i == 0 else [q[0], q[1], q[3]] if i == nv - 1 else q)
-            if np.cross(q[1] - q[0], q[2] - q[0]) @ (q.mean(0) - centre) > 0:
-                q = q[::-1].copy()
-            out.append(q)
-    return out
 
 
 @pytest.mark.parametrize("r1,r2", [(0.125, 0.25), (0.25, 0.5)])

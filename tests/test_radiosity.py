@@ -79,7 +79,7 @@ def test_shooting_plain_matrix_and_bad_input():
 def test_cornell_box_colour_bleeding():
     # White floor patches next to the red wall (x near 556 mm) reflect redder light than those
     # next to the green wall (x near 0): the red/green ratio of B must differ by a wide margin.
-    from nusselt.cli import bundled
+    from nusselt.data import bundled
 
     scene = nusselt.Scene.from_file(bundled("cornell_box.obj")).refined(150.0)
     with warnings.catch_warnings():

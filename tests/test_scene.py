@@ -2,7 +2,7 @@
 
 import numpy as np
 import pytest
-from conftest import cube_faces
+from conftest import cube_faces, rect
 
 import nusselt
 
@@ -95,3 +95,27 @@ def test_cube_32_acceptance():
     assert res.reciprocity_error <= 1e-12
     f = res.by_surface().dense()
     assert np.abs(f[0, 1] - C11) <= 1e-10 and np.abs(f[0, 2] - C14) <= 1e-10
+
+
+def test_refined_keeps_obstruction_only_polygons_whole():
+    # A large obstruction-only ground plane used to be tiled like a receiver (here 400^2 tiles);
+    # it gets no row or column, so refining it only costs time: it is kept whole, and blocks the same.
+    lower, upper = rect(0, 1, 0, 1), rect(0, 1, 0, 1, z=2.0, flip=True)
+    blocker = rect(0.25, 0.75, 0.25, 0.75, z=1.0)
+    ground = rect(-50, 50, -50, 50, z=-1.0)
+    scene = nusselt.Scene.from_polygons(
+        [lower, upper, blocker, ground],
+        surface=["lower", "upper", "blocker", "ground"],
+        obstruction=[False, False, True, True],
+    )
+    fine = scene.refined(0.25)
+    assert len(fine) == 16 + 16 + 2
+    kept = np.flatnonzero(fine.obstruction)
+    assert [fine.surface_names[fine.surface[k]] for k in kept] == ["blocker", "ground"]
+    for k, original in zip(kept, [blocker, ground]):
+        np.testing.assert_array_equal(fine.polygons[k], original)
+    # the receivers' tiles see the blocker as the whole surfaces do (additivity)
+    coarse = nusselt.form_factors(scene).by_surface()
+    tiled = nusselt.form_factors(fine).by_surface()
+    i, j = coarse.names.index("lower"), coarse.names.index("upper")
+    assert tiled.dense()[i, j] == pytest.approx(coarse.dense()[i, j], abs=1e-6)

@@ -158,6 +158,23 @@ def test_doubled_mesh_is_refused_naming_both_faces():
         nusselt.Scene.from_polygons(polys + polys)
 
 
+def test_a_single_face_given_twice_is_refused_not_turned_into_a_two_sided_wall():
+    """Two coincident triangles facing the same way use each edge twice: orientation took
+    them for a closed shell, made it "consistent" by reversing one, and the overlap check
+    then saw a two-sided wall (found by the hypothesis long run: a pair whose true F is
+    1.9e-14 came out 0.0186, another 0.204 instead of 0)."""
+    tri = np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]])
+    other = np.array([[0.0, 0.0, 1.0], [0.0, 1.0, 1.0], [1.0, 0.0, 1.0]])
+    with pytest.raises(ValueError, match=r"face 0 and face 1 lie in one plane, face the same way and overlap"):
+        nusselt.Scene.from_polygons([tri, tri, other])
+    with pytest.warns(RepairWarning, match="1 duplicate"):
+        scene = nusselt.Scene.from_polygons([tri, tri, other], repair=True)
+    assert len(scene) == 2 and not scene.meta["orient"]["flipped"]
+    # given facing opposite ways, the two are a two-sided wall: kept as given
+    wall = nusselt.Scene.from_polygons([tri, tri[::-1], other])
+    assert len(wall) == 3 and not wall.meta["orient"]["flipped"]
+
+
 def test_partly_overlapping_faces_are_refused_even_with_repair():
     a, b = rect(0, 1, 0, 1), rect(0.5, 1.5, 0, 1)
     for repair in (False, True):

@@ -6,20 +6,52 @@
 >>> result = nusselt.form_factors(scene)                  # F[i, j], row = source
 """
 
-from . import exchange, io, radiosity, sensors, sky
-from ._core import __version__
-from .api import form_factors, point_view_factor, view_factor
-from .checks import ZeroRowWarning
-from .io import load_npz, read_scene
-from .methods import METHODS
-from .result import FormFactors
-from .scene import NusseltWarning, OrientationWarning, RepairWarning, Scene
-from .sensors import point_view_factors
+import os as _os
+import sys as _sys
+from typing import TYPE_CHECKING, Any
+
+try:
+    from . import io
+    from ._core import __version__
+    from .api import form_factors, point_view_factor, view_factor
+    from .checks import ZeroRowWarning
+    from .io import load_npz, read_scene
+    from .methods import METHODS, MethodName
+    from .result import FormFactors
+    from .scene import NusseltWarning, OrientationWarning, RepairWarning, Scene
+except KeyboardInterrupt:
+    # Ctrl-C while the `nusselt` command starts (numpy, scipy and the core load before its
+    # main() runs): a quiet exit with the code for SIGINT, as once the command runs. A
+    # program importing nusselt gets its KeyboardInterrupt as usual.
+    if _os.path.splitext(_os.path.basename(_sys.argv[0]))[0] == "nusselt":
+        print("nusselt: interrupted", file=_sys.stderr)
+        raise SystemExit(130) from None
+    raise
+
+if TYPE_CHECKING:
+    from . import exchange, radiosity, sensors, sky
+    from .sensors import point_view_factors
+
+# Imported on first use: they pull in scipy.sparse.linalg and scipy.linalg, most of the
+# import time, which reading a scene and computing its matrix never needs.
+_LAZY_MODULES = ("exchange", "radiosity", "sensors", "sky")
+
+
+def __getattr__(name: str) -> Any:
+    import importlib
+
+    if name in _LAZY_MODULES:
+        return importlib.import_module(f".{name}", __name__)
+    if name == "point_view_factors":
+        return importlib.import_module(".sensors", __name__).point_view_factors
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
 
 __all__ = [
     "Scene",
     "FormFactors",
     "METHODS",
+    "MethodName",
     "form_factors",
     "view_factor",
     "point_view_factor",

@@ -3,13 +3,15 @@
 from __future__ import annotations
 
 import os
+import tempfile
+from typing import Any, Literal, overload
 
 import numpy as np
 
 from . import _core, assembly, blocks, budget, ranges
 from . import checkpoint as _checkpoint
 from .checks import warn_zero_rows
-from .methods import resolve
+from .methods import MethodName, resolve
 from .result import FormFactors
 from .scene import PLANARITY_TOL, Scene
 
@@ -40,7 +42,21 @@ def _obstacles(obstacles) -> list[np.ndarray]:
     return [_polygon(o, f"obstacle {k}") for k, o in enumerate(obstacles)]
 
 
-def view_factor(pi, pj, *, obstacles=None, method: str = "auto", return_std: bool = False, **options):
+@overload
+def view_factor(
+    pi, pj, *, obstacles=None, method: MethodName = ..., return_std: Literal[False] = ..., **options: Any
+) -> float: ...
+@overload
+def view_factor(
+    pi, pj, *, obstacles=None, method: MethodName = ..., return_std: Literal[True], **options: Any
+) -> tuple[float, float]: ...
+@overload
+def view_factor(
+    pi, pj, *, obstacles=None, method: MethodName = ..., return_std: bool, **options: Any
+) -> float | tuple[float, float]: ...
+def view_factor(
+    pi, pj, *, obstacles=None, method: MethodName = "auto", return_std: bool = False, **options: Any
+) -> float | tuple[float, float]:
     """F_ij: the fraction of the radiation leaving polygon ``pi`` that reaches polygon ``pj``.
 
     Polygons are (n, 3) arrays, counter-clockwise seen from their front (emitting and
@@ -55,7 +71,21 @@ def view_factor(pi, pj, *, obstacles=None, method: str = "auto", return_std: boo
     return (float(f), float(s)) if return_std else float(f)
 
 
-def point_view_factor(point, normal, pj, *, obstacles=None, method: str = "auto", return_std: bool = False, **options):
+@overload
+def point_view_factor(
+    point, normal, pj, *, obstacles=None, method: MethodName = ..., return_std: Literal[False] = ..., **options: Any
+) -> float: ...
+@overload
+def point_view_factor(
+    point, normal, pj, *, obstacles=None, method: MethodName = ..., return_std: Literal[True], **options: Any
+) -> tuple[float, float]: ...
+@overload
+def point_view_factor(
+    point, normal, pj, *, obstacles=None, method: MethodName = ..., return_std: bool, **options: Any
+) -> float | tuple[float, float]: ...
+def point_view_factor(
+    point, normal, pj, *, obstacles=None, method: MethodName = "auto", return_std: bool = False, **options: Any
+) -> float | tuple[float, float]:
     """F from a differential area at ``point`` with unit ``normal`` to polygon ``pj``
     (``return_std=True``: ``(F, standard error)``)."""
     p = _vector(point, "point")
@@ -73,7 +103,7 @@ def point_view_factor(point, normal, pj, *, obstacles=None, method: str = "auto"
 def form_factors(
     scene: Scene,
     *,
-    method: str = "auto",
+    method: MethodName = "auto",
     dense: bool = False,
     progress: bool = False,
     checkpoint: str | os.PathLike | None = None,
@@ -87,8 +117,11 @@ def form_factors(
 ) -> FormFactors:
     """The form-factor matrix of a scene: F[i, j] for every pair of receiving polygons.
 
-    Rows are computed in parallel, block by block; Ctrl-C stops between blocks. Pair methods
-    compute every unordered pair once, so reciprocity A_i F_ij = A_j F_ji holds to rounding.
+    Rows are computed in parallel, block by block; Ctrl-C stops within a fraction of a second
+    and keeps every finished block: in ``checkpoint``, or (without one) in a new checkpoint
+    directory that the KeyboardInterrupt's message names, from which ``resume=True`` continues.
+    Pair methods compute every unordered pair once, so reciprocity A_i F_ij = A_j F_ji holds
+    to rounding.
     Obstruction-only polygons block but get no row or column.
 
     Parameters
@@ -103,7 +136,10 @@ def form_factors(
         Directory where finished row blocks are written as they complete; with ``resume=True``
         an interrupted run continues from there and gives the identical matrix.
     block_size : int
-        Work per block: upper-triangle pairs (pair methods) or row entries (row methods).
+        The most work per block: upper-triangle pairs (pair methods) or row entries (row
+        methods); it bounds a block's memory. Blocks are sized from the measured speed, small
+        at first, to take about half a second each (:mod:`nusselt.blocks`); where they are
+        cut changes no value, so a checkpoint resumes whatever the block size.
     threshold : float
         Sparse threshold: a pair is dropped from the result when both F_ij and F_ji are below
         ``threshold`` (default 0: every nonzero entry is kept), so reciprocity still holds.
@@ -163,11 +199,12 @@ def form_factors(
     col_of = np.full(len(scene), -1, dtype=np.int64)
     col_of[recv] = np.arange(nr)
 
-    plan = blocks.plan_blocks(recv, kind, block_size)
-    ckpt = None
-    if checkpoint is not None:
-        run = _checkpoint.describe_run(scene, method, opts, kind, block_size, len(plan))
-        ckpt = _checkpoint.Checkpoint(checkpoint, run, resume)
+    run = _checkpoint.describe_run(scene, method, opts, kind)
+    ckpt = _checkpoint.Checkpoint(checkpoint, run, resume) if checkpoint is not None else None
+
+    def rescue() -> _checkpoint.Checkpoint:
+        # Ctrl-C without a checkpoint: the finished blocks go to a fresh one (named in the message)
+        return _checkpoint.Checkpoint(tempfile.mkdtemp(prefix="nusselt-interrupted-"), run, resume=False)
 
     # pair blocks lose their below-threshold pairs as they arrive (stored whole in the checkpoint)
     dropped_mass = np.zeros(len(scene))
@@ -189,10 +226,20 @@ def form_factors(
             from . import distributed
 
             done = distributed.run_blocks(
-                client, scene, method, opts, kind, plan, checkpoint=ckpt, progress_bar=bar, keep=keep
+                client, scene, method, opts, kind, recv, block_size, checkpoint=ckpt, progress_bar=bar, keep=keep
             )
         else:
-            done = blocks.run_blocks(compute, plan, checkpoint=ckpt, progress_bar=bar, keep=keep)
+            done = blocks.run_blocks(
+                compute,
+                recv,
+                kind,
+                block_size,
+                checkpoint=ckpt,
+                progress_bar=bar,
+                keep=keep,
+                threads=_threads(),
+                rescue=rescue,
+            )
     finally:
         if bar is not None:
             bar.close()
@@ -235,6 +282,14 @@ def memory_estimate(n: int, dense: bool = False) -> tuple[int, int | None]:
     None): the worst case of :mod:`nusselt.budget` for a pair method without threshold."""
     need = 2 * 8 * n * n if dense else budget.peak_bytes(n, kind="pairs")
     return need, budget.available_memory()
+
+
+def _threads() -> int:
+    """How many threads the core's pool runs (its size: RAYON_NUM_THREADS, else the CPUs)."""
+    try:
+        return max(1, int(os.environ.get("RAYON_NUM_THREADS", "")))
+    except ValueError:
+        return max(1, len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1))
 
 
 def _progress(enabled: bool, total: int, desc: str):

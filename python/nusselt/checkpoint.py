@@ -2,19 +2,20 @@
 
 Layout of a checkpoint directory::
 
-    manifest.json        {"format": "nusselt-checkpoint", "version": 2, "digest": <sha256>,
-                          "blocks": <number of blocks>, "run": {scene, polygons, receivers, method, options, kind,
-                                  block_size, blocks}}
+    manifest.json        {"format": "nusselt-checkpoint", "version": 3, "digest": <sha256>,
+                          "run": {scene, polygons, receivers, method, options, kind}}
     block_000000.npz     rows, indptr, indices, data[, std][, lost] and "meta": JSON text
-    block_000001.npz     {"digest": <the manifest's digest>, "index": k, "sha256": <content>}
-    ...
+    block_000001.npz     {"digest": <the manifest's digest>, "index": k, "start": s, "stop": e,
+    ...                   "sha256": <content>}
 
 ``digest`` is the SHA-256 of the ``run`` description (the scene's geometry hash, the method,
-its resolved options, the kind of blocks and the block size): the block boundaries and every
-value depend on nothing else. Each block carries that digest, its own index and a SHA-256 of
-its arrays, so a resumed run uses a block only if it is whole, belongs to this run and holds
-the rows planned for it. Anything else is refused with a ValueError naming the directory and
-the block (the CLI exits with status 2); nothing is ever trusted without a manifest.
+its resolved options and the kind of blocks): every value depends on nothing else, and where
+block boundaries fall changes none (:mod:`nusselt.blocks`). Block k holds the receivers
+``recv[start:stop]``; it carries the digest, its index, its range and a SHA-256 of its arrays,
+so a resumed run uses a block only if it is whole, belongs to this run, holds the rows of its
+range and overlaps no other block; the rows no block holds are computed (in blocks of any
+size). Anything else is refused with a ValueError naming the directory and the block (the CLI
+exits with status 2); nothing is ever trusted without a manifest.
 
 Every file is written to a temporary name, fsynced, renamed and its directory fsynced
 (:mod:`nusselt.io.atomic`): a killed run leaves whole blocks or none.
@@ -35,7 +36,7 @@ from .blocks import Block
 from .io.atomic import atomic_open
 
 FORMAT = "nusselt-checkpoint"
-VERSION = 2
+VERSION = 3
 MANIFEST = "manifest.json"
 _ARRAYS = ("rows", "indptr", "indices", "data", "std", "lost")
 
@@ -51,7 +52,7 @@ def scene_hash(scene: Any) -> str:
     return h.hexdigest()
 
 
-def describe_run(scene: Any, method: str, options: dict, kind: str, block_size: int, n_blocks: int) -> dict:
+def describe_run(scene: Any, method: str, options: dict, kind: str) -> dict:
     """What a checkpoint's blocks depend on, as JSON-able data (stored in the manifest and
     compared item by item on ``resume``, so a refusal can say what changed)."""
     return {
@@ -61,8 +62,6 @@ def describe_run(scene: Any, method: str, options: dict, kind: str, block_size: 
         "method": str(method),
         "options": json.loads(json.dumps({str(k): options[k] for k in sorted(options)}, default=str)),
         "kind": str(kind),
-        "block_size": int(block_size),
-        "blocks": int(n_blocks),
     }
 
 
@@ -93,7 +92,7 @@ def what_changed(old: dict, new: dict) -> str:
                 else " (same number of polygons, different vertices or faces)"
             )
         )
-    for key, label in (("method", "the method"), ("kind", "the kind of blocks"), ("block_size", "the block size")):
+    for key, label in (("method", "the method"), ("kind", "the kind of blocks")):
         if old.get(key) != new.get(key):
             out.append(f"{label} ({old.get(key)!r} then, {new.get(key)!r} now)")
     oo, no = old.get("options") or {}, new.get("options") or {}
@@ -104,8 +103,6 @@ def what_changed(old: dict, new: dict) -> str:
             if oo.get(k) != no.get(k)
         ]
         out.append("the options (" + "; ".join(diffs) + ")")
-    if not out and old.get("blocks") != new.get("blocks"):
-        out.append(f"the number of blocks ({old.get('blocks')} then, {new.get('blocks')} now)")
     return ", ".join(out) or "nothing visible (the manifest's digest does not match its description)"
 
 
@@ -154,7 +151,6 @@ class Checkpoint:
                         "format": FORMAT,
                         "version": VERSION,
                         "digest": self.digest,
-                        "blocks": self.run["blocks"],
                         "run": self.run,
                     },
                     fh,
@@ -217,12 +213,23 @@ class Checkpoint:
             f"and resume to recompute it, or remove {self.path} to start afresh"
         )
 
-    def load(self, k: int, rows: np.ndarray | None = None) -> Block | None:
-        """Block ``k`` if it was finished (validated; ``rows``: the rows planned for it),
-        None if it was not."""
+    def next_index(self) -> int:
+        """The index for the next block written (after every block present)."""
+        return max(self.finished(), default=-1) + 1
+
+    def load_all(self, recv: np.ndarray) -> list[tuple[int, int, Block]]:
+        """Every finished block as (start, stop, Block), validated, in row order; refused if
+        one is damaged, of another run, holds other rows than ``recv[start:stop]`` or
+        overlaps another."""
+        out = sorted((self.load(k, recv) + (k,) for k in self.finished()), key=lambda t: t[0])
+        for (_, stop, _, a), (start, _, _, b) in zip(out, out[1:]):
+            if start < stop:
+                raise self._refuse(b, f"overlaps block {a} (rows {start} to {stop - 1} in both)")
+        return [(start, stop, b) for start, stop, b, _ in out]
+
+    def load(self, k: int, recv: np.ndarray) -> tuple[int, int, Block]:
+        """Finished block ``k`` as (start, stop, Block), validated against ``recv``."""
         f = self.file(k)
-        if not os.path.exists(f):
-            return None
         try:
             with np.load(f, allow_pickle=False) as z:
                 arrays = {name: z[name] for name in z.files}
@@ -243,19 +250,24 @@ class Checkpoint:
             raise self._refuse(k, f"holds block {meta.get('index')!r}, not {k}")
         if meta.get("sha256") != content_hash(stored):
             raise self._refuse(k, "is damaged (its content does not match its SHA-256)")
+        start, stop = meta.get("start"), meta.get("stop")
+        if not (isinstance(start, int) and isinstance(stop, int) and 0 <= start < stop <= len(recv)):
+            raise self._refuse(k, f"has no valid row range ({start!r} to {stop!r} of {len(recv)} receivers)")
         try:
             b = Block(*(stored.get(name) for name in _ARRAYS))  # type: ignore[arg-type]
             _check_block(b)
         except (TypeError, ValueError) as e:
             raise self._refuse(k, f"is malformed ({e})") from None
-        if rows is not None and not np.array_equal(b.rows, rows):
-            raise self._refuse(k, "holds other rows than this run plans for it")
-        return b
+        if not np.array_equal(b.rows, recv[start:stop]):
+            raise self._refuse(k, "holds other rows than this run has at its place")
+        return start, stop, b
 
-    def save(self, k: int, b: Block) -> None:
-        """Writes block ``k`` durably (temporary file, fsync, rename, fsync of the directory)."""
+    def save(self, k: int, start: int, stop: int, b: Block) -> None:
+        """Writes block ``k`` (receivers ``start:stop``) durably (temporary file, fsync,
+        rename, fsync of the directory)."""
         arrays = {name: getattr(b, name) for name in _ARRAYS if getattr(b, name) is not None}
-        meta = {"digest": self.digest, "index": int(k), "sha256": content_hash(arrays)}
+        meta = {"digest": self.digest, "index": int(k), "start": int(start), "stop": int(stop)}
+        meta["sha256"] = content_hash(arrays)
         with atomic_open(self.file(k), "wb") as fh:
             np.savez(fh, meta=np.array(json.dumps(meta)), **arrays)
 

@@ -5,10 +5,10 @@ from __future__ import annotations
 import argparse
 import sys
 import warnings
-from importlib import resources
 from typing import Any
 
 from . import __version__
+from .data import bundled, cornell_box  # noqa: F401 (bundled: its home before nusselt.data)
 
 
 def _option_value(text: str):
@@ -32,24 +32,20 @@ def _parse_options(pairs: list[str]) -> dict:
     return out
 
 
-def bundled(name: str) -> str:
-    """Path of a scene shipped with the package (python/nusselt/data)."""
-    return str(resources.files("nusselt") / "data" / name)
-
-
 def cmd_demo(args) -> int:
     """The bundled Cornell box with its two blocks: the surface matrix (obstructed, auto) and a
     picture of every patch coloured by its form factor to the light."""
+    import dataclasses
     import os
     import time
 
     import numpy as np
 
     from .api import form_factors
-    from .render import render, value_range, write_png
+    from .render import CORNELL, render, value_range, write_png
     from .scene import Scene
 
-    base = Scene.from_file(bundled("cornell_box.obj"))
+    base = cornell_box()
     # One surface per block for the summary (the OBJ has one object per block face).
     names = [
         base.surface_names[s].split("_")[0] + " block" if "_" in base.surface_names[s] else base.surface_names[s]
@@ -84,18 +80,8 @@ def cmd_demo(args) -> int:
         f"Light row on {len(fine)} patches (edges <= {args.refine:g} mm): sum {f_light.sum():.8f}, "
         f"differs from the surface row by {check:.1e} (additivity) ({t2 - t1:.1f} s)"
     )
-    image = render(
-        polys,
-        f_to_light,
-        eye=(278.0, 273.0, -800.0),
-        look=(0.0, 0.0, 1.0),
-        up=(0.0, 1.0, 0.0),
-        fov_deg=39.3,
-        size=args.size,
-        label="F to light",
-        smooth=True,
-        groups=fine.surface,
-    )
+    camera = dataclasses.replace(CORNELL, size=args.size)
+    image = render(polys, f_to_light, camera, label="F to light", smooth=True, groups=fine.surface)
     out = os.path.abspath(args.output)
     write_png(out, image)
     lo, hi = value_range(f_to_light)
@@ -106,7 +92,7 @@ def cmd_demo(args) -> int:
     from .cli_radiation import colour_picture
 
     colour = os.path.splitext(out)[0] + "_colour.png"
-    print(colour_picture(fine, colour, eye=(278.0, 273.0, -800.0), size=args.size))
+    print(colour_picture(fine, colour, camera))
     return 0
 
 
@@ -217,10 +203,16 @@ def cmd_matrix(args) -> int:
             **zone_opts,
             **opts,
         )
-    except BaseException:
+    except BaseException as e:
         # keep finished blocks for --resume; a run that finished none leaves nothing behind
-        if os.path.isdir(partial) and not any(f.startswith("block_") for _, _, fs in os.walk(partial) for f in fs):
+        kept = sum(f.startswith("block_") for _, _, fs in os.walk(partial) for f in fs) if os.path.isdir(partial) else 0
+        if os.path.isdir(partial) and not kept:
             shutil.rmtree(partial, ignore_errors=True)
+        if isinstance(e, KeyboardInterrupt) and kept:
+            raise KeyboardInterrupt(
+                f"interrupted; {kept} finished block(s) are kept in {partial}: "
+                "run the same command with --resume to continue"
+            ) from None
         raise
     if args.correct:
         res = _corrected(res, closure=args.correct == "closure")
@@ -410,7 +402,8 @@ def build_parser() -> argparse.ArgumentParser:
         type=int,
         default=2_000_000,
         metavar="N",
-        help="work per checkpointed block: pairs (pair methods) or row entries (row methods)",
+        help="the most work per block: pairs (pair methods) or row entries (row methods); blocks are "
+        "sized from the measured speed to take about half a second each, up to this",
     )
     m.add_argument(
         "--float32",
@@ -477,6 +470,14 @@ def _show_warning(message, category, filename, lineno, file=None, line=None) -> 
 
 
 def main(argv: list[str] | None = None) -> int:
+    try:
+        return _run(argv)
+    except KeyboardInterrupt as e:  # at any point of the command, parsing included
+        print(f"nusselt: {' '.join(str(e).split()) or 'interrupted'}", file=sys.stderr)
+        return 130
+
+
+def _run(argv: list[str] | None) -> int:
     parser = build_parser()
     if not (sys.argv[1:] if argv is None else argv):
         parser.print_help()  # no command: the help, not an argparse error
@@ -487,9 +488,6 @@ def main(argv: list[str] | None = None) -> int:
             warnings.simplefilter("always")
             warnings.showwarning = _show_warning
             return args.func(args)
-    except KeyboardInterrupt:
-        print("nusselt: interrupted", file=sys.stderr)
-        return 130
     except (ValueError, TypeError, OSError, MemoryError) as e:
         msg = " ".join(str(e).split()) or type(e).__name__  # one line
         if isinstance(e, MemoryError):

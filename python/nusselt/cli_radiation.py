@@ -6,6 +6,8 @@ import csv
 
 import numpy as np
 
+from .render import Camera
+
 
 def _per_surface(items: list[str] | None, names: list[str], what: str, default: np.ndarray) -> np.ndarray:
     """``VALUE`` (every surface) or ``NAME=VALUE`` (one surface), applied in order."""
@@ -27,9 +29,14 @@ def _per_surface(items: list[str] | None, names: list[str], what: str, default: 
 
 def _read_values(path: str, names: list[str], eps, t, q) -> None:
     """CSV with a header ``surface,emissivity,temperature,flux`` (empty cells: not given)."""
-    with open(path, newline="") as fh:
-        rows = list(csv.DictReader(fh))
-    for line, row in enumerate(rows, start=2):
+    from .io.scenedata import csv_rows
+
+    rows = csv_rows(path, "CSV")
+    header = next(rows, (0, []))[1]
+    for line, cells in rows:
+        if not cells:
+            continue  # a blank line, as csv.DictReader skips it
+        row = dict(zip(header, cells))
         name = (row.get("surface") or "").strip()
         if name not in names:
             raise ValueError(f"{path}, line {line}: no surface {name!r}; surfaces: {', '.join(names)}")
@@ -105,8 +112,12 @@ def cmd_render(args) -> int:
         raise ValueError("nothing emits: give --emission SURFACE=R,G,B (or name a surface 'light')")
     lo, hi = np.min(fine.vertices, axis=0), np.max(fine.vertices, axis=0)
     centre, extent = (lo + hi) / 2, float(max(hi[0] - lo[0], hi[1] - lo[1]))
-    eye = _triple(args.eye, "--eye") if args.eye else np.array([centre[0], centre[1], lo[2] - 1.44 * extent])
-    look = _triple(args.look, "--look") if args.look else np.array([0.0, 0.0, 1.0])
+    camera = Camera(
+        eye=_triple(args.eye, "--eye") if args.eye else np.array([centre[0], centre[1], lo[2] - 1.44 * extent]),
+        look=_triple(args.look, "--look") if args.look else np.array([0.0, 0.0, 1.0]),
+        up=_triple(args.up, "--up"),
+        size=args.size,
+    )
     print(
         f"{args.scene}: "
         + colour_picture(
@@ -114,10 +125,7 @@ def cmd_render(args) -> int:
             args.output,
             rho=rho,
             emit=emit,
-            eye=eye,
-            look=look,
-            up=_triple(args.up, "--up"),
-            size=args.size,
+            camera=camera,
             resolution=args.resolution,
             solver=args.solver,
         )
@@ -126,20 +134,11 @@ def cmd_render(args) -> int:
 
 
 def colour_picture(
-    fine,
-    path,
-    *,
-    rho=None,
-    emit=None,
-    eye,
-    look=(0.0, 0.0, 1.0),
-    up=(0.0, 1.0, 0.0),
-    size=512,
-    resolution=128,
-    solver="direct",
+    fine, path, camera: Camera, *, rho=None, emit=None, resolution: int = 128, solver: str = "direct"
 ) -> str:
     """Hemicube form factors of the patches of ``fine``, the RGB radiosity solve (Cornell box
-    colours unless given) and a smooth-shaded PNG at ``path``; returns a one-line summary."""
+    colours unless given) and a smooth-shaded PNG at ``path`` as ``camera`` sees it; returns a
+    one-line summary."""
     import os
 
     from . import radiosity
@@ -151,9 +150,7 @@ def colour_picture(
     res = form_factors(fine, method="hemicube", resolution=resolution)
     sol = radiosity.solve(res, rho, emit, method=solver)
     colours = radiosity.display_colours(sol.radiosity, emit)
-    image = render_rgb(
-        fine.polygons, vertex_values(fine.polygons, colours, fine.surface), eye=eye, look=look, up=up, size=size
-    )
+    image = render_rgb(fine.polygons, vertex_values(fine.polygons, colours, fine.surface), camera)
     write_png(path, image)
     return (
         f"{len(fine)} patches, hemicube form factors, RGB radiosity ({solver}, residual {sol.residual:.1e}); "

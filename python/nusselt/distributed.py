@@ -1,8 +1,8 @@
 """Distributed runs on Dask: row blocks as tasks on a ``dask.distributed`` cluster.
 
-``form_factors(scene, client=client)`` (CLI: ``nusselt matrix ... --dask SCHEDULER``) plans the
-same row blocks as a local run (:func:`nusselt.blocks.plan_blocks`) and submits one task per
-block that the checkpoint does not already hold. The scene's geometry goes to every worker once
+``form_factors(scene, client=client)`` (CLI: ``nusselt matrix ... --dask SCHEDULER``) plans
+row blocks of ``block_size`` work each (:func:`nusselt.blocks.plan_range`) over the rows the
+checkpoint does not already hold and submits one task per block. The scene's geometry goes to every worker once
 (``client.scatter(..., broadcast=True)``; a worker that joins later fetches it from a peer), and
 each worker process builds its core scene once and keeps it for every block it computes. Blocks
 come back to the client as they finish and are written to the checkpoint at once, so a killed
@@ -18,11 +18,12 @@ from __future__ import annotations
 
 import hashlib
 import uuid
-from collections.abc import Callable, Sequence
+from collections.abc import Callable
 from typing import Any
 
 import numpy as np
 
+from . import blocks
 from .blocks import Block
 
 #: Times the scheduler reruns a block whose worker died (distributed's task retries).
@@ -96,27 +97,32 @@ def run_blocks(
     method: str,
     opts: dict,
     kind: str,
-    plan: Sequence[np.ndarray],
+    recv: np.ndarray,
+    block_size: int,
     *,
     checkpoint: Any = None,
     progress_bar: Any = None,
     keep: Callable[[Block], Block] | None = None,
 ) -> list[Block]:
-    """The blocks of ``plan`` computed on the cluster of ``client`` (those the checkpoint holds
-    are loaded instead), each written to the checkpoint as it arrives; in plan order."""
+    """Every block of ``recv`` computed on the cluster of ``client`` (those the checkpoint
+    holds are loaded instead), each written to the checkpoint as it arrives; in row order."""
     from distributed import as_completed
 
     keep = keep or (lambda b: b)
-    done: list[Block | None] = [None] * len(plan)
-    todo = []
-    for k, rows in enumerate(plan):
-        b = checkpoint.load(k, rows) if checkpoint is not None else None
-        if b is None:
-            todo.append(k)
-        else:
-            done[k] = keep(b)
+    n = len(recv)
+    finished = checkpoint.load_all(recv) if checkpoint is not None else []
+    done: dict[int, Block] = {}
+    todo: list[tuple[int, int]] = []
+    pos = 0
+    for start, stop, b in [*finished, (n, n, None)]:
+        todo += blocks.plan_range(n, kind, block_size, pos, start)  # the rows no block holds
+        if b is not None:
+            done[start] = keep(b)
             if progress_bar is not None:
-                progress_bar.update(len(rows))
+                progress_bar.update(stop - start)
+        pos = stop
+    plan = {start: np.ascontiguousarray(recv[start:stop], dtype=np.int64) for start, stop in todo}
+    index = checkpoint.next_index() if checkpoint is not None else 0
     if todo:
         payload = scene_payload(scene)
         # one future under a fresh key: scattering the dict itself keys its arrays by their names
@@ -128,35 +134,37 @@ def run_blocks(
         # released run of the same blocks would hand its fate (cancelled) to this one
         run = uuid.uuid4().hex[:12]
         futures = {}
-        for k in todo:
+        for start, stop in todo:
             f = client.submit(
                 compute_block,
                 shipped,
-                plan[k],
+                plan[start],
                 method,
                 opts,
                 kind,
-                key=f"nusselt-block-{tag}-{run}-{k}",
+                key=f"nusselt-block-{tag}-{run}-{start}",
                 retries=RETRIES,
                 pure=False,
             )
-            futures[f] = k
+            futures[f] = (start, stop)
         try:
             for f in as_completed(futures):
-                k = futures.pop(f)
+                start, stop = futures.pop(f)
                 # arrays off the wire may be unaligned views of the message: made aligned
-                b = Block(plan[k], *(None if a is None else np.require(a, requirements=["C", "A"]) for a in f.result()))  # type: ignore[arg-type]
+                parts = [None if a is None else np.require(a, requirements=["C", "A"]) for a in f.result()]
+                b = Block(plan[start], *parts)  # type: ignore[arg-type]
                 if checkpoint is not None:
-                    checkpoint.save(k, b)
-                done[k] = keep(b)
+                    checkpoint.save(index, start, stop, b)
+                    index += 1
+                done[start] = keep(b)
                 f.release()
                 if progress_bar is not None:
-                    progress_bar.update(len(plan[k]))
+                    progress_bar.update(stop - start)
         finally:
             if futures:
                 client.cancel(list(futures))
             client.cancel([shipped])
-    return done  # type: ignore[return-value]
+    return [done[start] for start in sorted(done)]
 
 
 def connect(address: str | None = None, *, scheduler_file: str | None = None, local_workers: int | None = None):

@@ -11,9 +11,27 @@ values again against the same table.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, Literal
 
 from . import _core
+
+#: A method's name, for type checkers (``method: MethodName``): the registry's names, in its
+#: order. A type must be written out, so tests/test_methods_registry.py checks it against
+#: :data:`METHODS` (which is read from the core).
+MethodName = Literal[
+    "auto",
+    "analytic",
+    "contour",
+    "quadrature",
+    "montecarlo",
+    "subdivision",
+    "adaptive",
+    "clipping",
+    "hemicube",
+    "single-plane",
+    "raytrace",
+    "nusselt",
+]
 
 #: Python type of each registry option type ("source" is a keyword or an integer k).
 _TYPES: dict[str, type] = {"float": float, "int": int, "bool": bool, "source": object}

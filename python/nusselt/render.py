@@ -5,8 +5,10 @@ from __future__ import annotations
 
 import struct
 import zlib
+from dataclasses import dataclass
 
 import numpy as np
+import numpy.typing as npt
 
 # A perceptually ordered colour map (samples of matplotlib's "inferno"), interpolated linearly.
 _INFERNO = np.array(
@@ -34,15 +36,29 @@ def colormap(t: np.ndarray) -> np.ndarray:
     return _INFERNO[k] * (1 - f) + _INFERNO[k + 1] * f
 
 
+@dataclass(frozen=True)
+class Camera:
+    """A pinhole camera: position ``eye``, view direction ``look``, ``up`` (any vector not
+    along ``look``), the field of view ``fov_deg`` (degrees, across the picture) and a square
+    picture of ``size`` x ``size`` pixels."""
+
+    eye: npt.ArrayLike
+    look: npt.ArrayLike = (0.0, 0.0, 1.0)
+    up: npt.ArrayLike = (0.0, 1.0, 0.0)
+    fov_deg: float = 39.3
+    size: int = 512
+
+
+#: The camera of the Cornell box data (https://www.graphics.cornell.edu/online/box/data.html):
+#: at (278, 273, -800) mm looking along +z, a 39.3 degree field of view.
+CORNELL = Camera(eye=(278.0, 273.0, -800.0))
+
+
 def render(
     polygons,
     values,
+    camera: Camera,
     *,
-    eye,
-    look,
-    up=(0.0, 1.0, 0.0),
-    fov_deg: float = 39.3,
-    size: int = 512,
     log: bool = True,
     decades: float = 3.0,
     background=(0.08, 0.08, 0.1),
@@ -51,11 +67,11 @@ def render(
     groups=None,
 ) -> np.ndarray:
     """Renders polygons (list of (n, 3) arrays, convex) coloured by ``values`` (one per polygon,
-    NaN = grey) as seen by a pinhole camera. With ``log`` the colour scale spans ``decades``
+    NaN = grey) as ``camera`` sees them. With ``log`` the colour scale spans ``decades``
     decades below the largest value; smaller values and zeros get the darkest colour (see
     :func:`value_range`). ``smooth``: Gouraud shading of values averaged at shared vertices
     (within the same entry of ``groups``, e.g. the surface index, so edges between surfaces
-    stay sharp). Returns an (size, size + bar, 3) uint8 image with a colour bar on the right
+    stay sharp). Returns a (size, size + bar, 3) uint8 image with a colour bar on the right
     (low values at the bottom), its ticks labelled with numbers and ``label`` (e.g. the unit)
     written above them."""
     vals = np.asarray(values, float)
@@ -74,25 +90,15 @@ def render(
         ]
     else:
         colours = np.where(ok[:, None], colormap(scale(np.where(ok, vals, hi))), 0.35)
-    img = rasterise(polygons, colours, eye=eye, look=look, up=up, fov_deg=fov_deg, size=size, background=background)
-    out = np.concatenate([img, colour_bar(size, lo, hi, log=log, label=label, background=background)], axis=1)
+    img = rasterise(polygons, colours, camera, background=background)
+    out = np.concatenate([img, colour_bar(camera.size, lo, hi, log=log, label=label, background=background)], axis=1)
     return (np.clip(out, 0, 1) * 255 + 0.5).astype(np.uint8)
 
 
-def render_rgb(
-    polygons,
-    colours,
-    *,
-    eye,
-    look,
-    up=(0.0, 1.0, 0.0),
-    fov_deg: float = 39.3,
-    size: int = 512,
-    background=(0.0, 0.0, 0.0),
-) -> np.ndarray:
+def render_rgb(polygons, colours, camera: Camera, *, background=(0.0, 0.0, 0.0)) -> np.ndarray:
     """Renders polygons in colour: ``colours`` is per polygon an RGB triple or an (nv, 3) array
     of vertex colours (Gouraud-interpolated), display values in [0, 1]. Returns (size, size, 3) uint8."""
-    img = rasterise(polygons, colours, eye=eye, look=look, up=up, fov_deg=fov_deg, size=size, background=background)
+    img = rasterise(polygons, colours, camera, background=background)
     return (np.clip(img, 0, 1) * 255 + 0.5).astype(np.uint8)
 
 
@@ -124,25 +130,16 @@ def vertex_values(polygons, values, groups=None) -> list[np.ndarray]:
     return np.split(per_corner, np.cumsum([len(p) for p in polys])[:-1])
 
 
-def rasterise(
-    polygons,
-    colours,
-    *,
-    eye,
-    look,
-    up=(0.0, 1.0, 0.0),
-    fov_deg: float = 39.3,
-    size: int = 512,
-    background=(0.0, 0.0, 0.0),
-) -> np.ndarray:
+def rasterise(polygons, colours, camera: Camera, *, background=(0.0, 0.0, 0.0)) -> np.ndarray:
     """Z-buffered pinhole view (float RGB image, (size, size, 3)) of convex polygons with a colour
     per polygon or per vertex."""
-    eye = np.asarray(eye, float)
-    fwd = np.asarray(look, float) / np.linalg.norm(look)
-    right = np.cross(fwd, up)
+    eye = np.asarray(camera.eye, float)
+    fwd = np.asarray(camera.look, float) / np.linalg.norm(camera.look)
+    right = np.cross(fwd, np.asarray(camera.up, float))
     right /= np.linalg.norm(right)
     upv = np.cross(right, fwd)
-    f = 0.5 * size / np.tan(np.radians(fov_deg) / 2)
+    size = camera.size
+    f = 0.5 * size / np.tan(np.radians(camera.fov_deg) / 2)
     img = np.empty((size, size, 3))
     img[:] = background
     zbuf = np.full((size, size), np.inf)

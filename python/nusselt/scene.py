@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import os
 import types
 import warnings
@@ -80,6 +81,17 @@ def _face_mask(sel, nf: int, what: str) -> np.ndarray:
     m = np.zeros(nf, dtype=bool)
     m[a] = True
     return m
+
+
+def _stack(polygons) -> tuple[np.ndarray, list[np.ndarray]]:
+    """(vertices, faces) of a list of (n, 3) polygons, each face its own run of vertices."""
+    polys = [np.asarray(p, dtype=np.float64) for p in polygons]
+    for k, p in enumerate(polys):
+        if p.ndim != 2 or p.shape[1] != 3:
+            raise ValueError(f"polygon {k}: expected an (n, 3) array, got shape {p.shape}")
+    starts = np.concatenate([[0], np.cumsum([len(p) for p in polys])]).astype(np.int64)
+    faces = [np.arange(starts[k], starts[k + 1]) for k in range(len(polys))]
+    return (np.concatenate(polys) if polys else np.zeros((0, 3))), faces
 
 
 class Scene:
@@ -356,14 +368,7 @@ class Scene:
     @classmethod
     def from_polygons(cls, polygons, *, surface=None, names=None, obstruction=None, **kw) -> Scene:
         """A scene from a list of (n, 3) vertex arrays."""
-        polys = [np.asarray(p, dtype=np.float64) for p in polygons]
-        for k, p in enumerate(polys):
-            if p.ndim != 2 or p.shape[1] != 3:
-                raise ValueError(f"polygon {k}: expected an (n, 3) array, got shape {p.shape}")
-        sizes = [len(p) for p in polys]
-        starts = np.concatenate([[0], np.cumsum(sizes)])
-        faces = [np.arange(starts[k], starts[k + 1]) for k in range(len(polys))]
-        verts = np.concatenate(polys) if polys else np.zeros((0, 3))
+        verts, faces = _stack(polygons)
         return cls(verts, faces, surface=surface, names=names, obstruction=obstruction, **kw)
 
     @classmethod
@@ -376,19 +381,9 @@ class Scene:
         from .io import read_scene
 
         data = read_scene(os.fspath(path), format=format)
+        # a SceneData's fields are the constructor's arguments of the same names
         return cls(
-            data.vertices,
-            data.faces,
-            surface=data.surface,
-            names=data.names,
-            obstruction=data.obstruction,
-            emissivity=data.emissivity,
-            source=data.source,
-            origin=data.origin,
-            meta=data.meta,
-            orient=orient,
-            repair=repair,
-            **kw,
+            **{f.name: getattr(data, f.name) for f in dataclasses.fields(data)}, orient=orient, repair=repair, **kw
         )
 
     # --- changed copies -------------------------------------------------------------------
@@ -478,7 +473,9 @@ class Scene:
     def refined(self, max_edge: float) -> Scene:
         """A finer mesh of the same surfaces: every quadrilateral split bilinearly into k x m
         quads and every other polygon fan-triangulated and each triangle split into k^2, so
-        that no edge is longer than ``max_edge``. Surface names and obstruction flags carry over."""
+        that no edge is longer than ``max_edge``. Surface names and obstruction flags carry over.
+        Obstruction-only polygons are kept whole: they get no row or column, so tiles would
+        only add work (a large ground plane would become millions of them) and block the same."""
         if isinstance(max_edge, (bool, np.bool_)) or not isinstance(max_edge, (int, float, np.integer, np.floating)):
             raise TypeError(f"max_edge must be a number, got {max_edge!r}")
         if not (np.isfinite(max_edge) and max_edge > 0):
@@ -493,6 +490,9 @@ class Scene:
 
         for k, f in enumerate(self.faces):
             v = self.vertices[f]
+            if self.obstruction[k]:
+                emit(v, k)
+                continue
             if len(v) == 4 and _is_convex(v, self.normals[k]):
                 nu = max(1, int(np.ceil(max(np.linalg.norm(v[1] - v[0]), np.linalg.norm(v[2] - v[3])) / max_edge)))
                 nv = max(1, int(np.ceil(max(np.linalg.norm(v[3] - v[0]), np.linalg.norm(v[2] - v[1])) / max_edge)))
@@ -518,17 +518,14 @@ class Scene:
                         emit(np.array([at(i, j), at(i + 1, j), at(i, j + 1)]), k)
                         if i + j + 1 < n:
                             emit(np.array([at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)]), k)
-        return Scene.from_polygons(
-            polys,
+        verts, faces = _stack(polys)
+        return self._replace(
+            vertices=verts,
+            faces=faces,
             surface=surf,
-            names=self.surface_names,
             obstruction=obst,
-            emissivity=self.emissivity,
             two_sided=np.array(two, dtype=bool),
-            planarity_tol=self.planarity_tol,
-            source=self.source,
-            meta=self.meta,
-            orient="as-is",
+            origin=None,
         )
 
     def _face_label(self, k: int) -> str:

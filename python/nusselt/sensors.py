@@ -15,12 +15,12 @@ kelvin.
 from __future__ import annotations
 
 from collections.abc import Mapping
-from typing import Literal, cast
+from typing import Any, Literal, TypeAlias, cast, overload
 
 import numpy as np
 import scipy.sparse as sp
 
-from .methods import resolve
+from .methods import MethodName, resolve
 from .scene import Scene
 
 #: ISO 7726:1998 Annex B, projected-area weights of the six plane radiant temperatures
@@ -80,18 +80,61 @@ def surface_sum(patch_matrix, scene: Scene):
     return (m @ agg).tocsr()
 
 
+#: What :func:`point_view_factors` returns: a sparse matrix, or an array with ``dense=True``.
+Matrix: TypeAlias = "sp.csr_array | np.ndarray"
+
+
+@overload
 def point_view_factors(
     points,
     normals,
     scene: Scene,
     *,
-    method: str = "auto",
+    method: MethodName = ...,
+    obstructed: bool = ...,
+    by_surface: bool = ...,
+    dense: bool = ...,
+    return_std: Literal[False] = ...,
+    **options: Any,
+) -> Matrix: ...
+@overload
+def point_view_factors(
+    points,
+    normals,
+    scene: Scene,
+    *,
+    method: MethodName = ...,
+    obstructed: bool = ...,
+    by_surface: bool = ...,
+    dense: bool = ...,
+    return_std: Literal[True],
+    **options: Any,
+) -> tuple[Matrix, Matrix]: ...
+@overload
+def point_view_factors(
+    points,
+    normals,
+    scene: Scene,
+    *,
+    method: MethodName = ...,
+    obstructed: bool = ...,
+    by_surface: bool = ...,
+    dense: bool = ...,
+    return_std: bool,
+    **options: Any,
+) -> Matrix | tuple[Matrix, Matrix]: ...
+def point_view_factors(
+    points,
+    normals,
+    scene: Scene,
+    *,
+    method: MethodName = "auto",
     obstructed: bool = True,
     by_surface: bool = False,
     dense: bool = False,
     return_std: bool = False,
-    **options,
-):
+    **options: Any,
+) -> Matrix | tuple[Matrix, Matrix]:
     """F from differential plane elements at ``points`` (unit ``normals``) to every receiving
     patch of ``scene``.
 
@@ -229,7 +272,7 @@ def mean_radiant_temperature(
     up=(0.0, 0.0, 1.0),
     rest: float | None = None,
     obstructed: bool = True,
-    method: str = "auto",
+    method: MethodName = "auto",
 ) -> np.ndarray:
     """Mean radiant temperature (kelvin) at each point.
 
@@ -262,7 +305,7 @@ def plane_radiant_temperatures(
     up=(0.0, 0.0, 1.0),
     rest: float | None = None,
     obstructed: bool = True,
-    method: str = "auto",
+    method: MethodName = "auto",
 ) -> dict[str, np.ndarray]:
     """The six plane radiant temperatures (kelvin) at each point, by direction name
     (:func:`six_directions`), all in one core call."""
@@ -277,20 +320,20 @@ def plane_radiant_temperatures(
 def read_points_csv(path) -> tuple[np.ndarray, np.ndarray]:
     """Points and normals from a CSV file with a header naming the columns x, y, z, nx, ny,
     nz (in any order; other columns are ignored). Errors name the file and line."""
-    import csv
+    from .io.scenedata import csv_rows
 
-    with open(path, newline="") as fh:
-        rows = list(csv.reader(fh))
-    if not rows:
+    rows = csv_rows(str(path), "CSV")
+    first = next(rows, None)
+    if first is None:
         raise ValueError(f"{path}: empty file, expected a header x,y,z,nx,ny,nz")
-    header = [h.strip().lower() for h in rows[0]]
+    header = [h.strip().lower() for h in first[1]]
     need = ["x", "y", "z", "nx", "ny", "nz"]
     missing = [c for c in need if c not in header]
     if missing:
-        raise ValueError(f"{path}:1: missing column(s) {', '.join(missing)} (header: {','.join(header)})")
+        raise ValueError(f"{path}:{first[0]}: missing column(s) {', '.join(missing)} (header: {','.join(header)})")
     cols = [header.index(c) for c in need]
     out = []
-    for line, row in enumerate(rows[1:], start=2):
+    for line, row in rows:
         if not row or all(not c.strip() for c in row):
             continue
         if len(row) < len(header):

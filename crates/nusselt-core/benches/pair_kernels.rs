@@ -8,10 +8,11 @@
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use glam::DVec3 as V;
 use nusselt_core::geometry::Polygon;
-use nusselt_core::method::{self, Method, Options};
-use nusselt_core::moments::{moment4_pair, moment_pair, Moments};
-use nusselt_core::quadrature::{self, AreaRule, PackedRule};
-use nusselt_core::{analytic, contour};
+use nusselt_core::quadrature::AreaRule;
+use nusselt_core::unobstructed::far_field::{self, PackedRule};
+use nusselt_core::unobstructed::method::{self, Method, Options};
+use nusselt_core::unobstructed::moments::{moment4_pair, moment_pair, Moments};
+use nusselt_core::unobstructed::{analytic, contour};
 use std::hint::black_box;
 
 fn poly(v: &[[f64; 3]]) -> Polygon {
@@ -81,11 +82,11 @@ fn pair_kernels(c: &mut Criterion) {
         let pb = PackedRule::new(&AreaRule::new(b, order), b);
         g.throughput(Throughput::Elements((order * order * order * order) as u64));
         g.bench_with_input(BenchmarkId::new("quad-quad order", order), &(&pa, &pb), |bch, (pa, pb)| {
-            bch.iter(|| quadrature::far_pair(black_box(pa), a.normal(), black_box(pb), b.normal()))
+            bch.iter(|| far_field::far_pair(black_box(pa), a.normal(), black_box(pb), b.normal()))
         });
         let (ra, rb) = (AreaRule::new(a, order), AreaRule::new(b, order));
         g.bench_with_input(BenchmarkId::new("area_area quad-quad order", order), &(&ra, &rb), |bch, (ra, rb)| {
-            bch.iter(|| quadrature::area_area(black_box(ra), a.normal(), black_box(rb), b.normal()))
+            bch.iter(|| far_field::area_area(black_box(ra), a.normal(), black_box(rb), b.normal()))
         });
     }
     // the second-moment rule (what most pairs of a large enclosure use at low accuracy)

@@ -6,8 +6,8 @@
 //! the receiver's (as furniture stands on a floor). Reference: the same method at tol 1e-9 with
 //! a budget of 2 million evaluations per integral. Pairs the blockers do not touch are skipped.
 //! Errors are relative to each pair's unobstructed G = A_i F_ij (what `tol` bounds).
-use nusselt_core::method::{self, Method};
 use nusselt_core::obstructed::{self, Context, VisMethod, VisOptions};
+use nusselt_core::unobstructed::method::{self, Method};
 use nusselt_core::visibility::{Bvh, Occluders};
 use nusselt_core::{Polygon, Vec3};
 use std::time::Instant;

@@ -104,7 +104,9 @@ fn main() {
             let (mut pairs, mut blocked, mut cand, mut check) = (0usize, 0usize, Vec::new(), 0u64);
             for i in 0..polys.len() {
                 for j in i + 1..polys.len() {
-                    if nusselt_core::method::facing(&polys[i], &polys[j]) == nusselt_core::method::Facing::None {
+                    if nusselt_core::unobstructed::method::facing(&polys[i], &polys[j])
+                        == nusselt_core::unobstructed::method::Facing::None
+                    {
                         continue;
                     }
                     pairs += 1;

@@ -3,8 +3,8 @@
 //!     cargo run --release -p nusselt-core --example obstructed_schemes -- N PAIRS
 //! Reference: the adaptive rule at tol 1e-10. Errors are relative to each pair's unobstructed
 //! G = A_i F_ij (what `tol` bounds).
-use nusselt_core::method::{self, Facing, Method};
 use nusselt_core::obstructed::{self, Context, VisMethod, VisOptions};
+use nusselt_core::unobstructed::method::{self, Facing, Method};
 use nusselt_core::visibility::{Bvh, Occluders, Visibility};
 use std::time::Instant;
 

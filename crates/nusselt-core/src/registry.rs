@@ -11,9 +11,9 @@
 
 use crate::error::{Error, Result};
 use crate::hemisphere::SourcePoints;
-use crate::method::Method;
 use crate::obstructed::VisMethod;
 use crate::scene::{AllOptions, AnyMethod, RowMethod};
+use crate::unobstructed::method::Method;
 use crate::work::DEFAULT_BUDGET;
 
 /// How a method computes a matrix.
@@ -310,7 +310,19 @@ pub static METHODS: &[MethodSpec] = &[
         obstructed: true,
         doc: "cosine-distributed rays (reverse Nusselt analogy) from area-uniform points, first hit by the BVH; binomial \
               standard error per entry",
-        options: &[int("rays", 4096, 1, 1 << 26, "rays per patch"), SEED, BUDGET],
+        options: &[
+            int("rays", 4096, 1, 1 << 26, "rays per patch (with row_tol: the most a row may cast)"),
+            float(
+                "row_tol",
+                0.0,
+                0.0,
+                0.5,
+                "target standard error per entry: a row stops at the first of 256, 512, 1024, ... rays where every \
+                 entry's sqrt(F(1-F)/N) is at most this and N >= 3/row_tol (0: always cast `rays`)",
+            ),
+            SEED,
+            BUDGET,
+        ],
     },
     MethodSpec {
         name: "nusselt",
@@ -494,6 +506,7 @@ fn apply(name: &str, key: &str, v: &Value, o: &mut AllOptions) -> Result<()> {
         ("single-plane", "seed") => o.single_plane.seed = as_u64(v),
         ("raytrace", "rays") => o.raytrace.rays = as_u64(v) as u32,
         ("raytrace", "seed") => o.raytrace.seed = as_u64(v),
+        ("raytrace", "row_tol") => o.raytrace.row_tol = as_f64(v),
         ("nusselt", "cells") => o.nusselt.cells = as_u64(v) as u32,
         ("nusselt", "source") => o.nusselt.source = source_of(v).0,
         ("nusselt", "jitter") => o.nusselt.jitter = as_bool(v),

@@ -17,9 +17,9 @@ use crate::hemisphere::{
 };
 pub use crate::matrix::PairRow;
 use crate::matrix::{clamp_g, flatten_pair_rows, full_rows, upper_pair_rows, PairBlock};
-use crate::method::{self, Method, Options, RuleCache};
 use crate::obstructed::{self, Context, Estimate, VisMethod, VisOptions};
-use crate::unobstructed_rows;
+use crate::unobstructed::method::{self, Method, Options, RuleCache};
+use crate::unobstructed::rows as unobstructed_rows;
 use crate::visibility::{Bvh, Occluders};
 use crate::work;
 use rayon::prelude::*;

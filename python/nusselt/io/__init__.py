@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import os
 
-from .energyplus import read_energyplus, read_user_view_factors, write_user_view_factors
+from .energyplus import read_energyplus, read_user_view_factors
 from .meshes import read_mesh
 from .obj import read_obj
 from .scenedata import SceneData
@@ -28,6 +28,7 @@ from .writers import (
     write_energyplus,
     write_npz,
     write_result,
+    write_user_view_factors,
     write_view3d,
     write_vtu,
 )

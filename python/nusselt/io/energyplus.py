@@ -42,13 +42,13 @@ zone and are ignored. Window multipliers above 1 cannot be drawn: a warning name
 Each zone is its own enclosure: ``meta["surface_zone"]`` gives the zone of every named
 surface, and :func:`nusselt.zones.zone_form_factors` computes zone by zone.
 
-Writing: :func:`write_user_view_factors` writes one object per zone with all N^2 pairs (zeros
-included: EnergyPlus warns when pairs are missing), as IDF text or epJSON.
+Writing: :func:`nusselt.io.writers.energyplus.write_user_view_factors` writes one object per
+zone with all N^2 pairs (zeros included: EnergyPlus warns when pairs are missing), as IDF text
+or epJSON; :func:`read_user_view_factors` here reads them back.
 """
 
 from __future__ import annotations
 
-import json
 import math
 import os
 import re
@@ -57,7 +57,7 @@ import warnings
 import numpy as np
 
 from . import _planar
-from .scenedata import SceneData, check_readable, parse_error
+from .scenedata import SceneData, check_readable, parse_error, read_json, starts_with, text_lines
 from .view3d import local_plane_axes
 
 OBJECT = "ZoneProperty:UserViewFactors:BySurfaceName"
@@ -193,14 +193,14 @@ class _Obj:
 # --- IDF text ------------------------------------------------------------------------------
 
 
-def _idf_objects(path: str, text: str) -> list[tuple[int, list[str]]]:
-    """(first line, fields) of every IDF object; ``!`` starts a comment, ``,`` separates fields,
-    ``;`` ends an object."""
+def _idf_objects(path: str) -> list[tuple[int, list[str]]]:
+    """(first line, fields) of every IDF object, read line by line; ``!`` starts a comment,
+    ``,`` separates fields, ``;`` ends an object."""
     out: list[tuple[int, list[str]]] = []
     fields: list[str] = []
     cur: list[str] = []
     start = None
-    for no, line in enumerate(text.splitlines(), start=1):
+    for no, line in text_lines(path, "IDF"):
         line = line.split("!", 1)[0]
         for piece in re.split(r"([,;])", line):
             if piece == ",":
@@ -247,8 +247,8 @@ def _fits(kind: str, layout: list[str], values: list[str]) -> bool:
     return len(vals) == n  # the last fields (length, height or width) are required
 
 
-def _from_idf(path: str, text: str) -> list[_Obj]:
-    raw = _idf_objects(path, text)
+def _from_idf(path: str) -> list[_Obj]:
+    raw = _idf_objects(path)
     version = None
     for _, vals in raw:
         if vals[0].strip().lower() == "version":
@@ -295,11 +295,17 @@ def _from_idf(path: str, text: str) -> list[_Obj]:
 # --- epJSON --------------------------------------------------------------------------------
 
 
-def _from_epjson(path: str, text: str) -> list[_Obj]:
-    try:
-        doc = json.loads(text)
-    except json.JSONDecodeError as e:
-        raise parse_error(path, f"line {e.lineno}", f"not valid JSON: {e.msg}") from None
+def _is_epjson(path: str) -> bool:
+    return path.lower().endswith(".epjson") or starts_with(path, b"{")
+
+
+def _read_epjson(path: str):
+    # JSON is parsed whole: a file too large for that is refused, with the way out
+    return read_json(path, "epJSON", "convert it to IDF (EnergyPlus ConvertInputFormat), which is read line by line")
+
+
+def _from_epjson(path: str) -> list[_Obj]:
+    doc = _read_epjson(path)
     if not isinstance(doc, dict):
         raise parse_error(path, None, "an epJSON file is a JSON object of object types")
     lower = {k.lower(): k for k in doc}
@@ -369,17 +375,9 @@ def _rot_z(p: np.ndarray, deg: float) -> np.ndarray:
     """Rotate points clockwise (seen from above) by ``deg`` about the z axis."""
     if deg == 0.0:
         return p
-    c, s = _cos_sin(-deg)
+    c, s = _planar.cos_sin_deg(-deg)
     x, y = p[:, 0], p[:, 1]
     return np.column_stack([x * c - y * s, x * s + y * c, p[:, 2]])
-
-
-def _cos_sin(deg: float) -> tuple[float, float]:
-    q = deg / 90.0
-    if q == round(q):
-        return [(1.0, 0.0), (0.0, 1.0), (-1.0, 0.0), (0.0, -1.0)][int(round(q)) % 4]
-    r = math.radians(deg)
-    return math.cos(r), math.sin(r)
 
 
 class _Zone:
@@ -414,100 +412,35 @@ def _outside_frame(poly_out: np.ndarray, azimuth_hint: float | None) -> tuple[np
     return ex, np.cross(n, ex)
 
 
-def _triangulate_2d(p: np.ndarray) -> list[np.ndarray]:
-    """Ear clipping of a simple counter-clockwise 2-D polygon."""
-    idx = list(range(len(p)))
-    tris = []
-    scale = float(np.max(np.ptp(p, axis=0))) or 1.0
-    eps = 1e-14 * scale * scale
-
-    def cross(a, b, c):
-        return (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
-
-    guard = 0
-    while len(idx) > 3 and guard < 10 * len(p) ** 2:
-        guard += 1
-        m = len(idx)
-        for k in range(m):
-            i0, i1, i2 = idx[k - 1], idx[k], idx[(k + 1) % m]
-            a, b, c = p[i0], p[i1], p[i2]
-            if cross(a, b, c) <= eps:
-                continue
-            inside = False
-            for j in idx:
-                if j in (i0, i1, i2):
-                    continue
-                q = p[j]
-                if cross(a, b, q) >= -eps and cross(b, c, q) >= -eps and cross(c, a, q) >= -eps:
-                    inside = True
-                    break
-            if not inside:
-                tris.append(np.array([a, b, c]))
-                del idx[k]
-                break
-        else:
-            raise ValueError("polygon is not simple (no ear found)")
-    if len(idx) == 3:
-        tris.append(p[idx])
-    return tris
+#: EnergyPlus's rules for windows and doors: convex, facing as their base, which may be concave.
+_CUT_RULES = _planar.CutRules(
+    plane_tol=1e-4,
+    concave_base=True,
+    messages={
+        "zero_base": "{base} has zero area but has windows or doors",
+        "not_simple": "{base} is not a simple polygon",
+        "off_plane": "{what} is not in the plane of its base surface (a vertex is {dist:.3g} m from it)",
+        "zero_area": "{what} has zero area",
+        "wrong_way": "{what} faces the opposite way to its base surface "
+        "(its vertices must go round in the same sense as the base's)",
+        "not_convex": "{what} is not convex",
+        "outside": "{what} is not inside its base surface ({pct:.3g}% of it lies outside)",
+        "overlap": "{what} overlaps {other}",
+    },
+)
 
 
 def _cut(path, base: dict, subs: list[dict]) -> list[np.ndarray]:
-    """The base polygon (nusselt orientation) minus its subsurfaces, as simple polygons."""
-    bpoly = base["poly"]
-    try:
-        frame = _planar.PlaneFrame(bpoly)
-    except ValueError:
-        raise parse_error(path, base["where"], f"{base['label']} has zero area but has windows or doors") from None
-    size = frame.size
-    b2 = frame.to2d(bpoly)
-    convex = _planar.is_convex_2d(b2, 1e-9 * size * size)
-    if convex:
-        parts = [b2]
-    else:
-        try:
-            parts = _triangulate_2d(b2)
-        except ValueError:
-            raise parse_error(path, base["where"], f"{base['label']} is not a simple polygon") from None
-    holes: list[tuple[dict, np.ndarray]] = []
-    for s in subs:
-        what = f"{s['label']} (on {base['label']})"
-        dist = float(np.max(np.abs(frame.height(s["poly"]))))
-        if dist > 1e-4 * size:
-            raise parse_error(
-                path, s["where"], f"{what} is not in the plane of its base surface (a vertex is {dist:.3g} m from it)"
-            )
-        q = frame.to2d(s["poly"])
-        a = _planar.signed_area_2d(q)
-        if a <= 0:
-            raise parse_error(
-                path,
-                s["where"],
-                f"{what} faces the opposite way to its base surface "
-                "(its vertices must go round in the same sense as the base's)"
-                if a < 0
-                else f"{what} has zero area",
-            )
-        if not _planar.is_convex_2d(q, 1e-9 * size * size):
-            raise parse_error(path, s["where"], f"{what} is not convex")
-        inside = sum(_planar.convex_intersection_area(q, t) for t in parts)
-        if inside < (1 - 1e-6) * a:
-            raise parse_error(
-                path,
-                s["where"],
-                f"{what} is not inside its base surface ({100 * (1 - inside / a):.3g}% of it lies outside)",
-            )
-        for other, q2 in holes:
-            ov = _planar.convex_intersection_area(q, q2)
-            if ov > 1e-9 * min(a, _planar.signed_area_2d(q2)):
-                raise parse_error(path, s["where"], f"{what} overlaps {other['label']}")
-        holes.append((s, q))
-    if not holes:
-        return [bpoly]
-    pieces = []
-    for t in parts:
-        pieces.extend(_planar.subtract_convex_holes(t, [q for _, q in holes], size))
-    return [frame.to3d(p) for p in pieces]
+    """The base polygon (nusselt orientation) minus its subsurfaces, as convex polygons."""
+    holes = [_planar.Hole(s["poly"], s["where"], f"{s['label']} (on {base['label']})", s["label"]) for s in subs]
+    return _planar.cut_holes(
+        base["poly"],
+        holes,
+        _CUT_RULES,
+        where=base["where"],
+        label=base["label"],
+        fail=lambda where, problem: parse_error(path, where, problem),
+    )
 
 
 def read_energyplus(path) -> SceneData:
@@ -521,11 +454,8 @@ def read_energyplus(path) -> SceneData:
     """
     path = os.fspath(path)
     check_readable(path)
-    with open(path, "rb") as fh:
-        raw = fh.read()
-    text = raw.decode("utf-8-sig", errors="replace")
-    is_json = path.lower().endswith(".epjson") or text.lstrip().startswith("{")
-    objs = _from_epjson(path, text) if is_json else _from_idf(path, text)
+    is_json = _is_epjson(path)
+    objs = _from_epjson(path) if is_json else _from_idf(path)
     return _build(path, objs, "epJSON" if is_json else "IDF")
 
 
@@ -746,102 +676,10 @@ def _build(path: str, objs: list[_Obj], dialect: str) -> SceneData:
         faces=faces,
         surface=np.array(surface, dtype=np.int64),
         names=names,
-        obstruction=np.zeros(len(faces), dtype=bool),
-        emissivity=None,
         origin=origin,
         source=path,
         meta=meta,
     )
-
-
-# --- writing -------------------------------------------------------------------------------
-
-
-def _check_name(path, label: str) -> str:
-    s = str(label).strip()
-    if not s or any(ch in s for ch in ",;!\n\r"):
-        raise ValueError(f"{path}: {label!r} cannot be an EnergyPlus name (empty, or holds , ; or !)")
-    return s
-
-
-def view_factor_triplets(path, matrix, names, *, all_pairs: bool = True) -> list[tuple[str, str, float]]:
-    """The (from, to, F) triplets of a surface matrix, row = from: all N^2, or with
-    ``all_pairs=False`` the nonzero ones; values checked to lie in [0, 1] (round-off up to
-    1e-9 outside is clipped)."""
-    import scipy.sparse as sp
-
-    f = matrix.toarray() if sp.issparse(matrix) else np.asarray(matrix, dtype=np.float64)
-    n = len(names)
-    if f.shape != (n, n):
-        raise ValueError(f"{path}: a {f.shape} matrix for {n} surface names")
-    bad = np.argwhere((f < -1e-9) | (f > 1 + 1e-9) | ~np.isfinite(f))
-    if len(bad):
-        i, j = bad[0]
-        raise ValueError(f"{path}: F[{names[i]} -> {names[j]}] = {float(f[i, j])!r} is not a view factor in [0, 1]")
-    f = np.clip(f, 0.0, 1.0)
-    return [(names[i], names[j], float(f[i, j])) for i in range(n) for j in range(n) if all_pairs or f[i, j] != 0]
-
-
-def write_user_view_factors(
-    path, zones: list[tuple[str, object, list[str]]], *, format: str | None = None, all_pairs: bool = True
-) -> None:
-    """Write one ``ZoneProperty:UserViewFactors:BySurfaceName`` object per zone.
-
-    ``zones`` lists ``(zone name, F, surface names)`` with F the zone's square surface matrix
-    (row = from surface). Every pair is written, zeros included (EnergyPlus warns about missing
-    pairs); ``all_pairs=False`` writes only the nonzero ones, which EnergyPlus takes as zero.
-    ``format`` is ``"idf"`` or
-    ``"epjson"`` (default: from the extension, ``.epJSON`` -> epJSON).
-
-    IDF fields (Energy+.idd): ``Zone or ZoneList or Space or SpaceList Name``, then the
-    extensible group ``From Surface i``, ``To Surface i``, ``View Factor i``. epJSON
-    (EnergyPlus's schema, generated from the IDD): the object is keyed by an arbitrary unique
-    name, with ``zone_or_zonelist_or_space_or_spacelist_name`` and the array ``view_factors``
-    of ``{from_surface, to_surface, view_factor}``.
-    """
-    from .writers import _atomic
-
-    path = os.fspath(path)
-    fmt = (format or ("epjson" if path.lower().endswith(".epjson") else "idf")).lower()
-    if fmt not in ("idf", "epjson"):
-        raise ValueError(f"unknown EnergyPlus format {format!r}; choose idf or epjson")
-    if not zones:
-        raise ValueError(f"{path}: no zones to write")
-    objects = []
-    seen = set()
-    for zone, matrix, names in zones:
-        zone = _check_name(path, zone)
-        if zone.lower() in seen:
-            raise ValueError(f"{path}: zone {zone!r} is given twice")
-        seen.add(zone.lower())
-        names = [_check_name(path, s) for s in names]
-        objects.append((zone, view_factor_triplets(path, matrix, names, all_pairs=all_pairs)))
-    if not any(trip for _, trip in objects):
-        raise ValueError(f"{path}: every view factor is zero; nothing to write")
-    with _atomic(path, "w") as fh:
-        if fmt == "epjson":
-            doc = {
-                OBJECT: {
-                    f"{OBJECT} {k}": {
-                        "zone_or_zonelist_or_space_or_spacelist_name": zone,
-                        "view_factors": [{"from_surface": a, "to_surface": b, "view_factor": f} for a, b, f in trip],
-                    }
-                    for k, (zone, trip) in enumerate(objects, start=1)
-                }
-            }
-            json.dump(doc, fh, indent=2)
-            fh.write("\n")
-            return
-        for zone, trip in objects:
-            fh.write(f"{OBJECT},\n")
-            fh.write(f"    {zone + ',':<30} !- Zone or ZoneList or Space or SpaceList Name\n")
-            last = len(trip)
-            for k, (a, b, f) in enumerate(trip, start=1):
-                end = ";" if k == last else ","
-                fh.write(f"    {a + ',':<30} !- From Surface {k}\n")
-                fh.write(f"    {b + ',':<30} !- To Surface {k}\n")
-                fh.write(f"    {repr(f) + end:<30} !- View Factor {k}\n")
-            fh.write("\n")
 
 
 def read_user_view_factors(path) -> dict[str, dict[tuple[str, str], float]]:
@@ -849,17 +687,15 @@ def read_user_view_factors(path) -> dict[str, dict[tuple[str, str], float]]:
     ``{zone: {(from, to): F}}``."""
     path = os.fspath(path)
     check_readable(path)
-    with open(path, encoding="utf-8-sig", errors="replace") as fh:
-        text = fh.read()
     out: dict[str, dict[tuple[str, str], float]] = {}
-    if path.lower().endswith(".epjson") or text.lstrip().startswith("{"):
-        doc = json.loads(text)
+    if _is_epjson(path):
+        doc = _read_epjson(path)
         group: dict[str, dict] = next((v for k, v in doc.items() if k.lower() == OBJECT.lower()), {})
         for obj in group.values():
             z = obj["zone_or_zonelist_or_space_or_spacelist_name"]
             out[z] = {(e["from_surface"], e["to_surface"]): float(e["view_factor"]) for e in obj["view_factors"]}
         return out
-    for line, vals in _idf_objects(path, text):
+    for line, vals in _idf_objects(path):
         if vals[0].strip().lower() != OBJECT.lower():
             continue
         rest = vals[2:]

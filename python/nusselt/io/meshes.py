@@ -242,8 +242,6 @@ def read_mesh(path: str, format: str | None = None) -> SceneData:
         faces=faces,
         surface=surface,
         names=names,
-        obstruction=np.zeros(len(faces), dtype=bool),
-        emissivity=None,
         origin=origin,
         source=path,
         meta=meta,

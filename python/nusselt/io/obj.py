@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .scenedata import SceneData, check_readable, parse_error
+from .scenedata import MAX_LINE_BYTES, SceneData, check_readable, parse_error, text_lines
 
 #: Statements that carry nothing a form-factor computation needs.
 _IGNORED = {
@@ -54,17 +54,19 @@ _FREEFORM = {
 DEFAULT_SURFACE = "default"
 
 
-def _logical_lines(text: str):
-    """(line number, content) with comments removed and ``\\`` continuations joined;
-    the number is that of the first physical line."""
+def _logical_lines(path: str, lines):
+    """(line number, content) from (number, physical line) pairs, with comments removed and
+    ``\\`` continuations joined; the number is that of the first physical line."""
     pending, start = "", 0
-    for no, raw in enumerate(text.splitlines(), start=1):
+    for no, raw in lines:
         line = raw.split("#", 1)[0] if "#" in raw else raw
         line = line.rstrip()
         if not pending:
             start = no
         if line.endswith("\\"):
             pending += line[:-1] + " "
+            if len(pending) > MAX_LINE_BYTES:
+                raise parse_error(path, f"line {start}", f"continued past {MAX_LINE_BYTES >> 20} MiB: damaged")
             continue
         yield start, pending + line
         pending = ""
@@ -84,11 +86,6 @@ def read_obj(path: str) -> SceneData:
     """
     path = str(path)
     check_readable(path)
-    with open(path, "rb") as fh:
-        raw = fh.read()
-    if b"\0" in raw[:4096]:
-        raise parse_error(path, None, "this is a binary file, not a text OBJ file")
-    text = raw.decode("utf-8", errors="replace")
 
     coords: list[tuple[float, float, float]] = []
     vline: list[int] = []
@@ -98,7 +95,7 @@ def read_obj(path: str) -> SceneData:
     names: dict[str, int] = {}
     current: str | None = None
 
-    for no, line in _logical_lines(text):
+    for no, line in _logical_lines(path, text_lines(path, "text OBJ")):
         parts = line.split()
         if not parts:
             continue
@@ -177,8 +174,6 @@ def read_obj(path: str) -> SceneData:
         faces=[np.array(f, dtype=np.int64) for f in faces],
         surface=np.array([remap[s] for s in face_surface], dtype=np.int64),
         names=[all_names[old] for old in used],
-        obstruction=np.zeros(len(faces), dtype=bool),
-        emissivity=None,
         origin=origin,
         source=path,
         meta={"format": "obj"},

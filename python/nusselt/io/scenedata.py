@@ -2,7 +2,10 @@
 
 from __future__ import annotations
 
+import csv
+import json
 import os
+from collections.abc import Iterator
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -40,7 +43,88 @@ def check_readable(path: str) -> None:
         raise parse_error(path, None, "the file is empty")
 
 
-@dataclass
+#: The longest line a text reader accepts (16 MiB: a face of over a million vertices). A longer
+#: one is damage or not a scene file, refused before it is held in memory.
+MAX_LINE_BYTES = 1 << 24
+
+
+def text_lines(path: str, kind: str) -> Iterator[tuple[int, str]]:
+    """(line number, text) of a text file, read line by line (the file is never held whole)
+    and decoded as UTF-8 (bad bytes replaced, a leading byte-order mark dropped); a NUL byte
+    (a binary file) or a line longer than :data:`MAX_LINE_BYTES` is refused with a ValueError
+    naming the file and line. Every hand-written text reader (OBJ, View3D, IDF, CSV) reads
+    through this."""
+    with open(path, "rb") as fh:
+        no = 0
+        while raw := fh.readline(MAX_LINE_BYTES + 1):
+            if len(raw) > MAX_LINE_BYTES and not raw.endswith(b"\n"):
+                raise parse_error(
+                    path, f"line {no + 1}", f"longer than {MAX_LINE_BYTES >> 20} MiB: damaged, or not a {kind} file"
+                )
+            if b"\0" in raw:
+                raise parse_error(path, f"line {no + 1}", f"this is a binary file, not a {kind} file (a NUL byte)")
+            if no == 0 and raw.startswith(b"\xef\xbb\xbf"):
+                raw = raw[3:]
+            for line in raw.decode("utf-8", errors="replace").splitlines() or [""]:
+                no += 1  # splitlines: CR-only line ends count too, as for str.splitlines
+                yield no, line
+
+
+def csv_rows(path: str, kind: str) -> Iterator[tuple[int, list[str]]]:
+    """(line number, fields) of each record of a CSV file, read through :func:`text_lines`
+    (so with its line cap); a malformed record is a ValueError naming the file and line."""
+    lines = text_lines(path, kind)
+    reader = csv.reader(text + "\n" for _, text in lines)
+    while True:
+        try:
+            row = next(reader)
+        except StopIteration:
+            return
+        except csv.Error as e:
+            raise parse_error(path, f"line {reader.line_num}", f"bad CSV: {e}") from None
+        yield reader.line_num, row
+
+
+#: The largest JSON file a reader accepts (256 MiB). JSON is parsed whole, into Python objects
+#: several times its size, so a larger file is refused before it is read.
+MAX_JSON_BYTES = 1 << 28
+
+
+def read_json(path: str, kind: str, advice: str = ""):
+    """The parsed JSON document of a file no larger than :data:`MAX_JSON_BYTES`; a larger one,
+    or invalid JSON, is refused with a ValueError naming the file (and the line)."""
+    size = os.path.getsize(path)
+    if size > MAX_JSON_BYTES:
+        raise parse_error(
+            path,
+            None,
+            f"{size / (1 << 20):.0f} MiB is larger than the {MAX_JSON_BYTES >> 20} MiB a {kind} file may have "
+            f"(JSON is read whole){'; ' + advice if advice else ''}",
+        )
+    with open(path, "rb") as fh:
+        text = fh.read().decode("utf-8-sig", errors="replace")
+    try:
+        return json.loads(text)
+    except json.JSONDecodeError as e:
+        raise parse_error(path, f"line {e.lineno}", f"not valid JSON: {e.msg}") from None
+
+
+def starts_with(path: str, char: bytes) -> bool:
+    """Whether the first character of a file after white space (and a byte-order mark) is
+    ``char``, read a block at a time so that leading blank space is never held whole."""
+    with open(path, "rb") as fh:
+        head = True
+        while block := fh.read(1 << 16):
+            if head and block.startswith(b"\xef\xbb\xbf"):
+                block = block[3:]
+            head = False
+            block = block.lstrip()
+            if block:
+                return block[:1] == char
+    return False
+
+
+@dataclass(kw_only=True)
 class SceneData:
     """Polygons with named surfaces, as read from a file.
 
@@ -54,9 +138,10 @@ class SceneData:
     names : list of str
         Surface names, unique.
     obstruction : (F,) bool
-        Polygons that block radiation but get no row or column.
+        Polygons that block radiation but get no row or column (default: none).
     emissivity : (len(names),) float64 or None
-        Per named surface (NaN where the file gives none, e.g. obstruction-only surfaces).
+        Per named surface (NaN where the file gives none, e.g. obstruction-only surfaces);
+        None (the default) when the format has none.
     origin : list of str
         Where each polygon came from, for error messages ("line 17", "cell 42").
     source : str
@@ -70,10 +155,10 @@ class SceneData:
     faces: list
     surface: np.ndarray
     names: list
-    obstruction: np.ndarray
-    emissivity: np.ndarray | None
     origin: list
     source: str
+    obstruction: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=bool))
+    emissivity: np.ndarray | None = None
     meta: dict = field(default_factory=dict)
 
     def __post_init__(self) -> None:
@@ -86,6 +171,8 @@ class SceneData:
             raise parse_error(src, None, "the file defines no polygons")
         self.surface = np.asarray(self.surface, dtype=np.int64).ravel()
         self.obstruction = np.asarray(self.obstruction, dtype=bool).ravel()
+        if not self.obstruction.size:  # not given (the default): nothing is obstruction-only
+            self.obstruction = np.zeros(nf, dtype=bool)
         self.names = [str(n) for n in self.names]
         self.origin = [str(o) for o in self.origin]
         if self.surface.shape != (nf,) or self.obstruction.shape != (nf,) or len(self.origin) != nf:

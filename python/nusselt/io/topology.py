@@ -17,7 +17,6 @@ from dataclasses import dataclass
 
 import numpy as np
 import scipy.sparse as sp
-from scipy.sparse.csgraph import breadth_first_order, connected_components
 
 ORIENTS = ("auto", "inward", "outward", "as-is")
 
@@ -87,6 +86,8 @@ def shells(vertices: np.ndarray, faces: list[np.ndarray]) -> Shells:
     edge_ok = (count == 2) & (forward == 1)
     # faces and edges as one graph: a face is joined to its edges
     g = sp.coo_matrix((np.ones(len(flat)), (face_of_edge, nf + key_of_edge)), shape=(nf + nk, nf + nk))
+    from scipy.sparse.csgraph import connected_components  # on first use: it imports scipy.linalg
+
     _, lab = connected_components(g, directed=False)
     face_lab = lab[:nf]
     _, face_lab = np.unique(face_lab, return_inverse=True)
@@ -128,6 +129,8 @@ def _consistent_flips(vertices: np.ndarray, faces: list[np.ndarray], members: np
     for root in range(nf):
         if seen[root]:
             continue
+        from scipy.sparse.csgraph import breadth_first_order
+
         bfs, pred = breadth_first_order(g, root, directed=False, return_predecessors=True)
         seen[bfs] = True
         for node in bfs[1:]:
@@ -139,6 +142,21 @@ def _consistent_flips(vertices: np.ndarray, faces: list[np.ndarray], members: np
     if flip.sum() * 2 > nf:
         flip = ~flip  # keep the orientation most faces had
     return members[flip]
+
+
+def _encloses_volume(
+    vertices: np.ndarray, faces: list[np.ndarray], av: np.ndarray, members: np.ndarray, flips: np.ndarray
+) -> bool:
+    """Whether a shell made consistent by reversing ``flips`` encloses a volume: two coincident
+    faces (a face duplicated, both fronts one way) use each edge twice and "close" into a
+    shell of no volume; reversing one of them would hide the duplicate from the overlap check
+    (the two then face opposite ways, as a two-sided wall does)."""
+    sign = np.where(np.isin(members, flips), -1.0, 1.0)
+    p0 = np.array([vertices[faces[k][0]] for k in members])
+    p0 = p0 - p0.mean(axis=0)
+    vol = abs(float(np.sum(sign * np.einsum("ij,ij->i", av[members], p0)))) / 3.0
+    area = float(np.linalg.norm(av[members], axis=1).sum())
+    return vol > 1e-12 * area**1.5
 
 
 def _weld(vertices: np.ndarray) -> np.ndarray:
@@ -227,9 +245,11 @@ def orient_faces(vertices: np.ndarray, faces: list[np.ndarray], orient: str = "a
     sh = shells(vertices, faces)
     made_consistent = np.zeros(0, np.int64)
     fixed = []
+    av = area_vectors(vertices, faces)
     for sidx in np.flatnonzero(sh.manifold & ~sh.closed):
-        flips = _consistent_flips(vertices, faces, np.flatnonzero(sh.label == sidx))
-        if flips is not None:
+        members = np.flatnonzero(sh.label == sidx)
+        flips = _consistent_flips(vertices, faces, members)
+        if flips is not None and _encloses_volume(vertices, faces, av, members, flips):
             fixed.append(flips)
     if orient == "as-is":
         report["inconsistent"] = np.concatenate(fixed) if fixed else np.zeros(0, np.int64)

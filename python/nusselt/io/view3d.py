@@ -37,11 +37,14 @@ import warnings
 import numpy as np
 
 from . import _planar
-from .scenedata import SceneData, check_readable, parse_error
+from .scenedata import SceneData, check_readable, parse_error, text_lines
 
 _INT_CONTROLS = {"maxu", "maxo", "mino", "row", "col", "encl", "emit", "out", "list", "prjd", "maxv"}
-# View3D 3.2's control words (getdat.c GetCtrl) and what nusselt does with them.
+# View3D 3.2's control words (getdat.c GetCtrl) and what nusselt does with them: honoured,
+# accepted silently (``list``, the detail of View3D's log, bears on no result and is in most
+# files EnergyPlus's tools write), or ignored with a warning saying what View3D would do.
 _HONOURED = {"encl", "emit"}
+_SILENT = {"list"}
 _ALGORITHM_CONTROLS = {
     "eps": "View3D's adaptive-integration convergence limit; nusselt's methods are exact or take their own "
     "tolerances (e.g. --option obstructed_tol=...)",
@@ -49,7 +52,6 @@ _ALGORITHM_CONTROLS = {
     "maxo": "View3D's recursion limit for obstructed pairs; not used by nusselt",
     "mino": "View3D's minimum recursions for obstructed pairs; not used by nusselt",
     "prjd": "View3D's projection-direction switch; not used by nusselt",
-    "list": "View3D's log detail; not used by nusselt",
     "row": "View3D then computes only that row (and prints it to its log); nusselt computes the whole matrix",
     "col": "View3D then computes only that entry; nusselt computes the whole matrix",
     "out": "View3D's output format; nusselt's output format follows the output file's extension",
@@ -66,15 +68,6 @@ def _strip_comment(line: str) -> str:
     if m:
         line = line[: m.start()]
     return line.strip()
-
-
-def _cos_sin_deg(deg: float) -> tuple[float, float]:
-    """cos and sin of an angle in degrees, exact at multiples of 90 degrees."""
-    q = deg / 90.0
-    if q == round(q):
-        return [(1.0, 0.0), (0.0, 1.0), (-1.0, 0.0), (0.0, -1.0)][int(round(q)) % 4]
-    r = math.radians(deg)
-    return math.cos(r), math.sin(r)
 
 
 def local_plane_axes(azimuth: float, tilt: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -94,8 +87,8 @@ def local_plane_axes(azimuth: float, tilt: float) -> tuple[np.ndarray, np.ndarra
     so that e_x x e_y = n and a counter-clockwise local polygon faces along n.
     Local point (x, y) maps to origin + x e_x + y e_y (View3D's GetVS3Da transformation).
     """
-    ca, sa = _cos_sin_deg(azimuth)
-    ct, st = _cos_sin_deg(tilt)
+    ca, sa = _planar.cos_sin_deg(azimuth)
+    ct, st = _planar.cos_sin_deg(tilt)
     ex = np.array([-ca, sa, 0.0])
     ey = np.array([-ct * sa, -ct * ca, st])
     n = np.array([st * sa, st * ca, ct])
@@ -123,11 +116,6 @@ def read_view3d(path: str) -> SceneData:
     """
     path = str(path)
     check_readable(path)
-    with open(path, "rb") as fh:
-        raw = fh.read()
-    if b"\0" in raw[:4096]:
-        raise parse_error(path, None, "this is a binary file, not a View3D text input file")
-    lines = raw.decode("utf-8", errors="replace").splitlines()
 
     def err(no, msg):
         return parse_error(path, f"line {no}" if no else None, msg)
@@ -150,7 +138,7 @@ def read_view3d(path: str) -> SceneData:
     # Records up to the end-of-data mark, with their line numbers.
     records: list[tuple[int, str, list[str]]] = []
     ended = False  # an end-of-data record was seen
-    for no, line in enumerate(lines, start=1):
+    for no, line in text_lines(path, "View3D text input"):
         text = _strip_comment(line)
         if not text:
             continue
@@ -190,7 +178,19 @@ def read_view3d(path: str) -> SceneData:
     vertices: list[tuple[float, float, float]] = []
     vertex_line: list[int] = []
     surfaces: list[_Surface] = []
+    surface_line: list[int] = []
     first_obstruction: _Surface | None = None
+
+    def check_next(no: int, n: int, word: str, lines: list[int], series: str) -> None:
+        """Vertices and surfaces are numbered 1, 2, 3 ... in order; ``lines`` holds where each so far is."""
+        if 1 <= n <= len(lines):
+            raise err(no, f"{word} {n} is defined twice (first on line {lines[n - 1]})")
+        if n != len(lines) + 1:
+            raise err(
+                no,
+                f"{word} {n} out of sequence: expected {word} {len(lines) + 1} "
+                f"(View3D numbers {series} 1, 2, 3 ... in order)",
+            )
 
     i = 0
     while i < len(records):
@@ -205,7 +205,7 @@ def read_view3d(path: str) -> SceneData:
                 raise err(no, f"control {words[-1]!r} has no value (write name=value)")
             for name, value in zip(words[::2], words[1::2]):
                 key = name.lower()
-                if key not in _HONOURED and key not in _ALGORITHM_CONTROLS:
+                if key not in _HONOURED and key not in _SILENT and key not in _ALGORITHM_CONTROLS:
                     # View3D warns "Invalid control word" and goes on (getdat.c GetCtrl)
                     warnings.warn(
                         f"{path}, line {no}: control {name}={value} is not a View3D 3.2 control "
@@ -218,9 +218,7 @@ def read_view3d(path: str) -> SceneData:
                     controls[name] = as_int(value, no, f"control {name}")
                 else:
                     controls[name] = as_float(value, no, f"control {name}")
-                if key in _ALGORITHM_CONTROLS and not (
-                    key in ("row", "col", "out", "list", "prjd") and controls[name] == 0
-                ):
+                if key in _ALGORITHM_CONTROLS and not (key in ("row", "col", "out", "prjd") and controls[name] == 0):
                     warnings.warn(
                         f"{path}, line {no}: control {name}={value} ignored: {_ALGORITHM_CONTROLS[key]}", stacklevel=2
                     )
@@ -232,28 +230,14 @@ def read_view3d(path: str) -> SceneData:
             if len(toks) < 5:
                 raise err(no, f"a vertex record needs 'V n x y z', got {text!r}")
             n = as_int(toks[1], no, "vertex number")
-            if 1 <= n <= len(vertices):
-                raise err(no, f"vertex {n} is defined twice (first on line {vertex_line[n - 1]})")
-            if n != len(vertices) + 1:
-                raise err(
-                    no,
-                    f"vertex {n} out of sequence: expected vertex {len(vertices) + 1} "
-                    "(View3D numbers vertices 1, 2, 3 ... in order)",
-                )
+            check_next(no, n, "vertex", vertex_line, "vertices")
             vertices.append(tuple(as_float(t, no, f"coordinate of vertex {n}") for t in toks[2:5]))
             vertex_line.append(no)
         elif c in "SMNO":
             if len(toks) < 2:
                 raise err(no, f"{_KIND_WORD[c]} record without a surface number")
             n = as_int(toks[1], no, "surface number")
-            if 1 <= n <= len(surfaces):
-                raise err(no, f"surface {n} is defined twice (first on line {surfaces[n - 1].line})")
-            if n != len(surfaces) + 1:
-                raise err(
-                    no,
-                    f"surface {n} out of sequence: expected surface {len(surfaces) + 1} "
-                    "(View3D numbers S, M, N and O surfaces 1, 2, 3 ... in order)",
-                )
+            check_next(no, n, "surface", surface_line, "S, M, N and O surfaces")
             if c != "O" and first_obstruction is not None:
                 raise err(
                     no,
@@ -324,6 +308,7 @@ def read_view3d(path: str) -> SceneData:
             if c == "O" and first_obstruction is None:
                 first_obstruction = s
             surfaces.append(s)
+            surface_line.append(s.line)
         else:
             raise err(no, f"unknown record {toks[0]!r} (View3D records: T C F V S M N O X E)")
 
@@ -415,62 +400,40 @@ def _check_references(surfaces: list[_Surface], err) -> None:
                 )
 
 
+#: View3D's rules for sub-surfaces, masks and null surfaces (all convex, base convex too).
+_CUT_RULES = _planar.CutRules(
+    plane_tol=1e-5,
+    concave_base=False,
+    messages={
+        "zero_base": "{base} has zero area but has sub-surfaces",
+        "concave_base": "{base} has sub-surfaces but is not convex (View3D surfaces must be convex)",
+        "off_plane": "{what} is not in the plane of its base surface {number} (a vertex is {dist:.3g} from that plane)",
+        "zero_area": "{what} has zero area",
+        "wrong_way": "{what} must face the same way as its base {number}",
+        "wrong_way_reversed": "{what} must face the opposite way to its base surface {number} "
+        "(View3D convention: list its vertices in the reverse order)",
+        "not_convex": "{what} is not convex (View3D surfaces must be convex)",
+        "outside": "{what} is not inside its base surface {number} ({pct:.3g}% of it lies outside)",
+        "overlap": "{what} overlaps {other} on the same base {number}",
+    },
+)
+
+
 def _cut_holes(base: _Surface, holes: list[_Surface], err) -> list[np.ndarray]:
     """The base's polygon minus its sub-surfaces, masks and null surfaces, as convex pieces."""
-    try:
-        frame = _planar.PlaneFrame(base.coords)
-    except ValueError:
-        raise err(base.line, f"{_KIND_WORD[base.kind]} {base.number} has zero area but has sub-surfaces") from None
-    size = frame.size
-    b2 = frame.to2d(base.coords)
-    if not _planar.is_convex_2d(b2, 1e-9 * size * size):
-        raise err(
-            base.line,
-            f"{_KIND_WORD[base.kind]} {base.number} has sub-surfaces but is not convex "
-            "(View3D surfaces must be convex)",
-        )
-    h2s: list[tuple[_Surface, np.ndarray]] = []
+    cut = []
     for h in holes:
         what = f"sub-surface {h.number}" if h.kind == "S" else f"{_KIND_WORD[h.kind]} {h.number}"
-        dist = np.max(np.abs(frame.height(h.coords)))
-        if dist > 1e-5 * size:
-            raise err(
-                h.line,
-                f"{what} is not in the plane of its base surface {base.number} "
-                f"(a vertex is {dist:.3g} from that plane)",
-            )
-        q = frame.to2d(h.coords)
-        a = _planar.signed_area_2d(q)
-        if a == 0:
-            raise err(h.line, f"{what} has zero area")
-        facing_same = a > 0
-        if h.kind == "S" and not facing_same:
-            raise err(h.line, f"sub-surface {h.number} must face the same way as its base {base.number}")
-        if h.kind in "MN" and facing_same:
-            raise err(
-                h.line,
-                f"{_KIND_WORD[h.kind]} {h.number} must face the opposite way to its base "
-                f"surface {base.number} (View3D convention: list its vertices in the reverse order)",
-            )
-        if a < 0:
-            q = q[::-1].copy()
-        if not _planar.is_convex_2d(q, 1e-9 * size * size):
-            raise err(h.line, f"{what} is not convex (View3D surfaces must be convex)")
-        inside = _planar.convex_intersection_area(q, b2)
-        if inside < (1 - 1e-6) * abs(a):
-            raise err(
-                h.line,
-                f"{what} is not inside its base surface {base.number} "
-                f"({100 * (1 - inside / abs(a)):.3g}% of it lies outside)",
-            )
-        for g, q2 in h2s:
-            ov = _planar.convex_intersection_area(q, q2)
-            if ov > 1e-9 * min(abs(a), _planar.signed_area_2d(q2)):
-                other = f"sub-surface {g.number}" if g.kind == "S" else f"{_KIND_WORD[g.kind]} {g.number}"
-                raise err(h.line, f"{what} overlaps {other} on the same base {base.number}")
-        h2s.append((h, q))
-    pieces = _planar.subtract_convex_holes(b2, [q for _, q in h2s], size)
-    return [frame.to3d(p) for p in pieces]
+        cut.append(_planar.Hole(h.coords, h.line, what, what, reversed=h.kind in "MN"))
+    return _planar.cut_holes(
+        base.coords,
+        cut,
+        _CUT_RULES,
+        where=base.line,
+        label=f"{_KIND_WORD[base.kind]} {base.number}",
+        number=base.number,
+        fail=err,
+    )
 
 
 def _build(path, geometry, title, controls, surfaces, err) -> SceneData:
@@ -556,35 +519,46 @@ def read_view3d_output(path: str) -> dict:
     Returns ``{"version", "out", "encl", "emit", "matrix" (N, N) ndarray, "areas", "emissivity"}``."""
     path = str(path)
     check_readable(path)
-    with open(path, encoding="utf-8", errors="replace") as fh:
-        lines = [ln for ln in fh.read().splitlines() if ln.strip()]
-    head = lines[0].split()
+    # (line number, text) of the non-blank lines, read one at a time: rows are parsed as they come
+    lines = ((no, ln) for no, ln in text_lines(path, "View3D output") if ln.strip())
+    first = next(lines, None)
+    if first is None:
+        raise parse_error(path, None, "not a View3D output file: only blank lines")
+    head_no, head_text = first
+    head = head_text.split()
     if len(head) < 6 or head[0] != "View3D":
-        raise parse_error(path, "line 1", "not a View3D output file (expected 'View3D 3.2 out encl emit N')")
+        raise parse_error(path, f"line {head_no}", "not a View3D output file (expected 'View3D 3.2 out encl emit N')")
     try:
         out, encl, emit, n = (int(t) for t in head[2:6])
     except ValueError:
-        raise parse_error(path, "line 1", f"bad header {lines[0].strip()!r}") from None
+        raise parse_error(path, f"line {head_no}", f"bad header {head_text.strip()!r}") from None
     if out != 0:
-        raise parse_error(path, "line 1", f"out={out}: only the text form (out=0) is read")
-    if len(lines) < n + 3:
-        raise parse_error(path, None, f"{n} surfaces need {n + 3} lines, the file has {len(lines)}")
+        raise parse_error(path, f"line {head_no}", f"out={out}: only the text form (out=0) is read")
+    if n < 0:
+        raise parse_error(path, f"line {head_no}", f"bad header: {n} surfaces")
 
     def row(k):
+        got = next(lines, None)
+        if got is None:
+            raise parse_error(path, None, f"{n} surfaces need {n + 3} lines, the file has {k}")
+        no, text = got
         try:
-            r = np.array([float(t) for t in lines[k].split()])
+            r = np.array([float(t) for t in text.split()])
         except ValueError:
-            raise parse_error(path, f"line {k + 1}", "bad number") from None
+            raise parse_error(path, f"line {no}", "bad number") from None
         if r.size != n:
-            raise parse_error(path, f"line {k + 1}", f"expected {n} values, found {r.size}")
+            raise parse_error(path, f"line {no}", f"expected {n} values, found {r.size}")
         return r
 
+    areas = row(1)
+    matrix = np.array([row(2 + i) for i in range(n)]).reshape(n, n)  # grows only as rows are found
+    emissivity = row(2 + n)
     return {
         "version": head[1],
         "out": out,
         "encl": encl,
         "emit": emit,
-        "areas": row(1),
-        "matrix": np.array([row(2 + i) for i in range(n)]).reshape(n, n),
-        "emissivity": row(2 + n),
+        "areas": areas,
+        "matrix": matrix,
+        "emissivity": emissivity,
     }

@@ -24,10 +24,9 @@
 //! points), and partial visibility. Random rotation about the normal per sample point turns
 //! the structured aliasing into noise that averages out over points and patches.
 
-use super::{check_row, rotated_frame, scene_diameter, Accum, RowResult, SourcePoints};
+use super::{row_over_points, Accum, Points, RowResult, SourcePoints};
 use crate::error::{Error, Result};
 use crate::geometry::{Polygon, Vec3};
-use crate::sampling::hash_unit;
 use std::cell::RefCell;
 use std::f64::consts::PI;
 
@@ -124,8 +123,6 @@ struct Scratch {
     clip_b: Vec<Vec3>,
     proj: Vec<[f64; 2]>,
     xs: Vec<f64>,
-    points: Vec<(Vec3, f64)>,
-    accum: Accum,
 }
 
 impl Scratch {
@@ -236,45 +233,33 @@ fn rasterize(
 /// `receivers[j]` says whether column j is reported; non-receivers still block. The source
 /// itself is skipped. F_ij = sum_k w_k sum_{cells of face sets at point k showing j} dF.
 pub fn hemicube_row(scene: &[Polygon], receivers: &[bool], i: usize, opts: &HemicubeOptions) -> Result<RowResult> {
-    check_row(scene, receivers, i)?;
     opts.check()?;
+    let res = opts.resolution as usize;
+    let rotation = opts.random_rotation.then_some(0x0420_7A7E);
+    let points = Points::Rule { source: opts.source, seed: opts.seed, rotation };
     SCRATCH.with(|s| {
         let mut s = s.borrow_mut();
         let s = &mut *s;
-        let src = &scene[i];
-        let n = src.normal();
-        let res = opts.resolution as usize;
-        let near = opts.near * src.radius();
-        let size = scene_diameter(scene);
-        let mut points = std::mem::take(&mut s.points);
-        opts.source.generate(src, size, opts.seed, i, &mut points);
-        s.accum.reset(scene.len());
-        let mut lost = 0.0;
-        for (k, &(p, weight)) in points.iter().enumerate() {
-            let angle = if opts.random_rotation {
-                2.0 * PI * hash_unit(opts.seed, &[i as u64, k as u64, 0x0420_7A7E])
-            } else {
-                0.0
-            };
-            let (u, v) = rotated_frame(n, angle);
+        let mut row = row_over_points(scene, receivers, i, points, |eye, acc, lost| {
+            let near = opts.near * scene[i].radius();
             // Eye a hair above the element: nothing of the source plane can be in front.
-            let eye = p + n * (0.5 * near);
+            let at = eye.p + eye.n * (0.5 * near);
             // one work unit per cell; stop at cancellation or over budget
             if !crate::work::spend(3 * (res * res) as u64) {
-                break;
+                return false;
             }
             s.prepare(res);
             for (j, poly) in scene.iter().enumerate() {
                 if j == i || (j % 256 == 0 && !crate::work::go_on()) {
                     continue;
                 }
-                project_polygon(s, poly, j as u32, eye, u, v, n, near, res);
+                project_polygon(s, poly, j as u32, at, eye.u, eye.v, eye.n, near, res);
             }
-            lost += weight * accumulate(s, res, weight);
-        }
-        s.points = points;
-        let entries = s.accum.entries(receivers);
-        Ok(RowResult { entries, std_err: None, lost: lost.max(0.0) })
+            *lost += eye.weight * accumulate(s, acc, res, eye.weight);
+            true
+        })?;
+        row.lost = row.lost.max(0.0);
+        Ok(row)
     })
 }
 
@@ -354,7 +339,7 @@ fn project_polygon(
 
 /// Adds weight * dF of every covered cell to its patch; returns the lost fraction (cells that
 /// see nothing or a back side).
-fn accumulate(s: &mut Scratch, res: usize, weight: f64) -> f64 {
+fn accumulate(s: &Scratch, acc: &mut Accum, res: usize, weight: f64) -> f64 {
     let mut lost = 0.0;
     let side_len = res * res / 2;
     for f in 0..5 {
@@ -363,7 +348,7 @@ fn accumulate(s: &mut Scratch, res: usize, weight: f64) -> f64 {
         for (c, &df) in table.iter().enumerate() {
             match s.item[off + c] {
                 EMPTY | BACK => lost += df,
-                j => s.accum.add(j, weight * df),
+                j => acc.add(j, weight * df),
             }
         }
     }

@@ -15,6 +15,10 @@
 //! horizon band the plane misses. `RowResult::lost` reports that fraction. Hits on
 //! polygons that are not receivers are blocked and simply not reported (they are not lost).
 //!
+//! One loop serves all four ([`row_over_points`]): it checks the arguments, places the source
+//! points with their (randomly rotated) tangent frames, keeps the per-thread accumulator over
+//! patch ids and reads the row out; a method supplies only what one eye sees.
+//!
 //! The functions are pure (no shared mutable state, per-thread scratch buffers), so the
 //! caller may run rows in parallel. Memory is O(N) per thread, never N x N.
 
@@ -30,7 +34,9 @@ pub use single_plane::{single_plane_row, SinglePlaneOptions};
 
 use crate::error::{Error, Result};
 use crate::geometry::{Polygon, Vec3};
-use crate::sampling::{hash_seed, sobol4, PolygonSampler};
+use crate::sampling::{hash_seed, hash_unit, sobol4, PolygonSampler};
+use std::cell::RefCell;
+use std::f64::consts::PI;
 
 /// One row F_i. of the form-factor matrix.
 #[derive(Debug, Clone, PartialEq, Default)]
@@ -42,6 +48,8 @@ pub struct RowResult {
     /// Fraction of the source's hemisphere assigned to no patch: back-face hits, directions
     /// that see nothing, and (single plane) the horizon band missed by the plane.
     pub lost: f64,
+    /// Rays cast (raytrace, fewer than `rays` where `row_tol` stopped the row); 0 otherwise.
+    pub samples: u32,
 }
 
 impl RowResult {
@@ -140,6 +148,75 @@ impl SourcePoints {
     }
 }
 
+/// Where a row method looks out from.
+#[derive(Debug, Clone, Copy)]
+pub(crate) enum Points {
+    /// The points of `source` (deterministic in `seed` and the row), each with its frame
+    /// rotated about the normal by 2 pi hash(seed, row, point, salt) when `rotation` holds the
+    /// method's salt, unrotated when it is None.
+    Rule { source: SourcePoints, seed: u64, rotation: Option<u64> },
+    /// One eye at the centroid with weight 1 and the unrotated frame: for a method that samples
+    /// points of the patch itself, jointly with its directions (raytrace).
+    WholePatch,
+}
+
+/// One source point of a row: position, tangent frame (u, v, n) and quadrature weight.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Eye {
+    pub p: Vec3,
+    pub u: Vec3,
+    pub v: Vec3,
+    pub n: Vec3,
+    pub weight: f64,
+    /// Index of the point in the row (seeds per-point randomness).
+    pub k: usize,
+}
+
+thread_local! {
+    static ROW: RefCell<(Accum, Vec<(Vec3, f64)>)> = RefCell::new(Default::default());
+}
+
+/// The source-point loop of every row method. For each eye, `look(eye, acc, lost)` adds
+/// weight x F(eye -> j) of what it sees to `acc[j]` and the weight of what it loses to `lost`,
+/// and returns false to stop (work budget spent or cancelled: the caller discards the row).
+/// Returns the receivers' entries and the summed `lost`; `std_err` is left to the method.
+pub(crate) fn row_over_points(
+    scene: &[Polygon],
+    receivers: &[bool],
+    i: usize,
+    points: Points,
+    mut look: impl FnMut(&Eye, &mut Accum, &mut f64) -> bool,
+) -> Result<RowResult> {
+    check_row(scene, receivers, i)?;
+    let src = &scene[i];
+    let n = src.normal();
+    ROW.with(|r| {
+        let mut r = r.borrow_mut();
+        let (acc, pts) = &mut *r;
+        acc.reset(scene.len());
+        let (seed, rotation) = match points {
+            Points::Rule { source, seed, rotation } => {
+                source.generate(src, scene_diameter(scene), seed, i, pts);
+                (seed, rotation)
+            }
+            Points::WholePatch => {
+                pts.clear();
+                pts.push((src.centroid(), 1.0));
+                (0, None)
+            }
+        };
+        let mut lost = 0.0;
+        for (k, &(p, weight)) in pts.iter().enumerate() {
+            let angle = rotation.map_or(0.0, |salt| 2.0 * PI * hash_unit(seed, &[i as u64, k as u64, salt]));
+            let (u, v) = rotated_frame(n, angle);
+            if !look(&Eye { p, u, v, n, weight, k }, acc, &mut lost) {
+                break;
+            }
+        }
+        Ok(RowResult { entries: acc.entries(receivers), std_err: None, lost, samples: 0 })
+    })
+}
+
 /// Validates the common arguments of a row computation.
 pub(crate) fn check_row(scene: &[Polygon], receivers: &[bool], i: usize) -> Result<()> {
     if receivers.len() != scene.len() {
@@ -206,6 +283,10 @@ impl Accum {
             self.touched.push(j);
         }
         *a += w;
+    }
+    /// Largest f(value) over the touched ids (0 when none is touched).
+    pub(crate) fn max_value(&self, f: impl Fn(f64) -> f64) -> f64 {
+        self.touched.iter().map(|&j| f(self.acc[j as usize])).fold(0.0, f64::max)
     }
     /// Sorted (j, value) for the receivers among the touched ids.
     pub(crate) fn entries(&mut self, receivers: &[bool]) -> Vec<(u32, f64)> {
@@ -536,7 +617,7 @@ mod room_tests {
         let (coarse, _) = room_with_crate(1, 1);
         let vis = Bvh::new(&coarse).unwrap();
         let rec = vec![true; coarse.len()];
-        let o = RaytraceOptions { rays: 1 << 18, seed: 12345 };
+        let o = RaytraceOptions { rays: 1 << 18, seed: 12345, ..Default::default() };
         let reference: Vec<RowResult> =
             (0..coarse.len()).map(|i| raytrace_row(&coarse, &vis, &rec, i, &o).unwrap()).collect();
         let fref = surface_matrix(&coarse, &(0..12).collect::<Vec<_>>(), &reference);

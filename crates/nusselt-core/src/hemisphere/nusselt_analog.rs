@@ -13,13 +13,11 @@
 //! visible patch. F_ij = sum over source points k of w_k (cells of k that see j) / s^2.
 //! The partition is rotated about the normal by a random angle per source point.
 
-use super::{check_row, rotated_frame, scene_diameter, Accum, RowResult, SourcePoints};
+use super::{row_over_points, Points, RowResult, SourcePoints};
 use crate::error::{Error, Result};
 use crate::geometry::Polygon;
 use crate::sampling::{concentric_disk, hash_unit, lift_to_hemisphere};
 use crate::visibility::Visibility;
-use std::cell::RefCell;
-use std::f64::consts::PI;
 
 /// Largest total cell count per source point (4096^2).
 pub const MAX_CELLS: u32 = 1 << 24;
@@ -62,10 +60,6 @@ impl NusseltOptions {
     }
 }
 
-thread_local! {
-    static SCRATCH: RefCell<(Accum, Vec<(crate::geometry::Vec3, f64)>)> = RefCell::new(Default::default());
-}
-
 /// Row i of the form-factor matrix by the Nusselt analogue; first hits through `vis` (built
 /// over the same `scene`). Cells that see a back side or nothing are lost.
 pub fn nusselt_row(
@@ -75,51 +69,35 @@ pub fn nusselt_row(
     i: usize,
     opts: &NusseltOptions,
 ) -> Result<RowResult> {
-    check_row(scene, receivers, i)?;
     opts.check()?;
-    let src = &scene[i];
-    let n = src.normal();
     let s = opts.side() as usize;
     let cell_w = 1.0 / (s * s) as f64;
-    let tmin = 1e-9 * src.radius();
     let ignore = [i as u32];
-    let size = scene_diameter(scene);
-    SCRATCH.with(|sc| {
-        let mut sc = sc.borrow_mut();
-        let (acc, points) = &mut *sc;
-        acc.reset(scene.len());
-        opts.source.generate(src, size, opts.seed, i, points);
-        let mut lost = 0.0;
-        for (k, &(p, weight)) in points.iter().enumerate() {
-            let angle = if opts.random_rotation {
-                2.0 * PI * hash_unit(opts.seed, &[i as u64, k as u64, 0x4E55_5E17])
+    let rotation = opts.random_rotation.then_some(0x4E55_5E17);
+    let points = Points::Rule { source: opts.source, seed: opts.seed, rotation };
+    row_over_points(scene, receivers, i, points, |eye, acc, lost| {
+        let tmin = 1e-9 * scene[i].radius();
+        let w = eye.weight * cell_w;
+        for c in 0..s * s {
+            // one work unit per cell; stop at cancellation or over budget
+            if c % 1024 == 0 && !crate::work::spend(1024) {
+                break;
+            }
+            let (cx, cy) = (c % s, c / s);
+            let (jx, jy) = if opts.jitter {
+                let base = [i as u64, eye.k as u64, c as u64];
+                (hash_unit(opts.seed ^ 0x1A, &base), hash_unit(opts.seed ^ 0x2B, &base))
             } else {
-                0.0
+                (0.5, 0.5)
             };
-            let (u, v) = rotated_frame(n, angle);
-            let w = weight * cell_w;
-            for c in 0..s * s {
-                // one work unit per cell; stop at cancellation or over budget
-                if c % 1024 == 0 && !crate::work::spend(1024) {
-                    break;
-                }
-                let (cx, cy) = (c % s, c / s);
-                let (jx, jy) = if opts.jitter {
-                    let base = [i as u64, k as u64, c as u64];
-                    (hash_unit(opts.seed ^ 0x1A, &base), hash_unit(opts.seed ^ 0x2B, &base))
-                } else {
-                    (0.5, 0.5)
-                };
-                let d = lift_to_hemisphere(concentric_disk([(cx as f64 + jx) / s as f64, (cy as f64 + jy) / s as f64]));
-                let dir = u * d.x + v * d.y + n * d.z;
-                match vis.first_hit(p, dir, tmin, f64::INFINITY, &ignore) {
-                    Some(h) if h.front && (h.id as usize) < scene.len() => acc.add(h.id, w),
-                    _ => lost += w,
-                }
+            let d = lift_to_hemisphere(concentric_disk([(cx as f64 + jx) / s as f64, (cy as f64 + jy) / s as f64]));
+            let dir = eye.u * d.x + eye.v * d.y + eye.n * d.z;
+            match vis.first_hit(eye.p, dir, tmin, f64::INFINITY, &ignore) {
+                Some(h) if h.front && (h.id as usize) < scene.len() => acc.add(h.id, w),
+                _ => *lost += w,
             }
         }
-        let entries = acc.entries(receivers);
-        Ok(RowResult { entries, std_err: None, lost })
+        true
     })
 }
 

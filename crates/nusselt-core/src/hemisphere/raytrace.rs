@@ -13,29 +13,38 @@
 //! Sobol points the true error is usually smaller, so this is a conservative bound, not an
 //! estimate of the actual QMC error.
 
-use super::{check_row, rotated_frame, Accum, RowResult};
+use super::{row_over_points, Points, RowResult};
 use crate::error::{Error, Result};
 use crate::geometry::Polygon;
 use crate::sampling::{cosine_hemisphere, hash_seed, sobol4, PolygonSampler};
 use crate::visibility::Visibility;
-use std::cell::RefCell;
 
 /// Largest ray count per row accepted.
 pub const MAX_RAYS: u32 = 1 << 26;
+/// Rays cast before `row_tol` is first checked (then after each doubling).
+pub const ROW_TOL_FIRST_CHECK: u32 = 256;
 
 /// Options of [`raytrace_row`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RaytraceOptions {
-    /// Rays per row (1..=2^26). A power of two keeps the Sobol points stratified.
-    /// Default 4096 (binomial std error <= 0.0078 per entry, about 0.006 at F = 0.2).
+    /// Rays per row (1..=2^26); with `row_tol` the most a row may cast. A power of two keeps
+    /// the Sobol points stratified. Default 4096 (binomial std error <= 0.0078 per entry,
+    /// about 0.006 at F = 0.2).
     pub rays: u32,
     /// Seed; the same seed gives the same row. Default 0.
     pub seed: u64,
+    /// Target standard error per entry, in [0, 0.5]; 0 (default) casts exactly `rays`. Else
+    /// the row stops at the first ray count N = 256, 512, 1024, ... (capped at `rays`) where
+    /// every entry's binomial error sqrt(F(1 - F)/N) is at most `row_tol` and N >= 3/row_tol
+    /// (so an entry no ray hit has F <= row_tol at 95 %): F(1 - F) <= 1/4 bounds N by about
+    /// 1/(4 row_tol^2). A row at N rays is the fixed-count row of `rays = N`
+    /// (docs/algorithms.md §5.1).
+    pub row_tol: f64,
 }
 
 impl Default for RaytraceOptions {
     fn default() -> Self {
-        RaytraceOptions { rays: 4096, seed: 0 }
+        RaytraceOptions { rays: 4096, seed: 0, row_tol: 0.0 }
     }
 }
 
@@ -44,17 +53,17 @@ impl RaytraceOptions {
         if self.rays == 0 || self.rays > MAX_RAYS {
             return Err(Error::InvalidArgument(format!("raytrace rays must be in 1..={MAX_RAYS}, got {}", self.rays)));
         }
+        if !(self.row_tol >= 0.0 && self.row_tol <= 0.5) {
+            return Err(Error::InvalidArgument(format!("raytrace row_tol must be in [0, 0.5], got {}", self.row_tol)));
+        }
         Ok(())
     }
 }
 
-thread_local! {
-    static ACCUM: RefCell<Accum> = RefCell::new(Accum::default());
-}
-
 /// Row i of the form-factor matrix by cosine-weighted rays from area-uniform points of patch
 /// i, first hits through `vis` (built over the same `scene`, ids = indices). Rays that hit a
-/// back side or nothing count as lost. `std_err` holds sqrt(F(1-F)/N) per entry.
+/// back side or nothing count as lost. `std_err` holds sqrt(F(1-F)/N) per entry, N the rays
+/// cast (`rays`, or fewer where `row_tol` was met first).
 pub fn raytrace_row(
     scene: &[Polygon],
     vis: &dyn Visibility,
@@ -62,43 +71,53 @@ pub fn raytrace_row(
     i: usize,
     opts: &RaytraceOptions,
 ) -> Result<RowResult> {
-    check_row(scene, receivers, i)?;
     opts.check()?;
-    let src = &scene[i];
-    let n = src.normal();
-    let (u, v) = rotated_frame(n, 0.0);
-    let sampler = PolygonSampler::new(src);
-    let seed = hash_seed(opts.seed, &[i as u64, 0x7A4_7ACE]);
-    // tmin relative to the patch: skips nothing real, avoids re-hitting the source plane.
-    let tmin = 1e-9 * src.radius();
-    let ignore = [i as u32];
-    let nr = opts.rays;
-    ACCUM.with(|a| {
-        let mut acc = a.borrow_mut();
-        acc.reset(scene.len());
-        let mut lost = 0u64;
+    let mut cast = 0u32;
+    let mut row = row_over_points(scene, receivers, i, Points::WholePatch, |eye, acc, lost| {
+        let src = &scene[i];
+        // the 4-D Sobol points place origin and direction jointly, so the eye gives only the frame
+        let sampler = PolygonSampler::new(src);
+        let seed = hash_seed(opts.seed, &[i as u64, 0x7A4_7ACE]);
+        // tmin relative to the patch: skips nothing real, avoids re-hitting the source plane.
+        let tmin = 1e-9 * src.radius();
+        let ignore = [i as u32];
+        let nr = opts.rays;
+        let mut check_at = if opts.row_tol > 0.0 { ROW_TOL_FIRST_CHECK.min(nr) } else { nr };
+        let tol2 = opts.row_tol * opts.row_tol;
         for k in 0..nr {
             // one work unit per ray; stop at cancellation or over budget
             if k % 1024 == 0 && !crate::work::spend(1024) {
-                break;
+                return false;
+            }
+            if k == check_at {
+                // hit counts c: F(1 - F)/N <= tol^2 with F = c/N, i.e. c (N - c) <= tol^2 N^3
+                // and N >= 3/tol: an entry no ray has hit has F <= 3/N at 95 % (rule of three)
+                let nf = k as f64;
+                if nf * opts.row_tol >= 3.0 && acc.max_value(|c| c * (nf - c)) <= tol2 * nf * nf * nf {
+                    break;
+                }
+                check_at = check_at.saturating_mul(2).min(nr);
             }
             let q = sobol4(k, seed);
             let d = cosine_hemisphere([q[0], q[1]]);
-            let dir = u * d.x + v * d.y + n * d.z;
+            let dir = eye.u * d.x + eye.v * d.y + eye.n * d.z;
             let origin = sampler.sample([q[2], q[3]]);
             match vis.first_hit(origin, dir, tmin, f64::INFINITY, &ignore) {
                 Some(h) if h.front && (h.id as usize) < scene.len() => acc.add(h.id, 1.0),
-                _ => lost += 1,
+                _ => *lost += 1.0,
             }
+            cast = k + 1;
         }
-        let nf = nr as f64;
-        let mut entries = acc.entries(receivers);
-        for e in &mut entries {
-            e.1 /= nf;
-        }
-        let std_err = entries.iter().map(|e| (e.1 * (1.0 - e.1) / nf).sqrt()).collect();
-        Ok(RowResult { entries, std_err: Some(std_err), lost: lost as f64 / nf })
-    })
+        true
+    })?;
+    let nf = cast.max(1) as f64;
+    for e in &mut row.entries {
+        e.1 /= nf;
+    }
+    row.std_err = Some(row.entries.iter().map(|e| (e.1 * (1.0 - e.1) / nf).sqrt()).collect());
+    row.lost /= nf;
+    row.samples = cast;
+    Ok(row)
 }
 
 #[cfg(test)]
@@ -128,7 +147,7 @@ mod tests {
         for rays in [1u32 << 10, 1 << 14] {
             let mut e2 = 0.0;
             for seed in 0..8 {
-                let o = RaytraceOptions { rays, seed };
+                let o = RaytraceOptions { rays, seed, ..Default::default() };
                 let (a, b) = (row(&par, 0, &o), row(&per, 0, &o));
                 assert!(within(&a, 1, ep), "{a:?}");
                 assert!(within(&b, 1, eq), "{b:?}");
@@ -162,7 +181,7 @@ mod tests {
             ),
             quad(Vec3::new(-0.5, -0.5, 1.), Vec3::new(-0.5, 0.5, 1.), Vec3::new(0., 0.5, 1.), Vec3::new(0., -0.5, 1.)),
         ];
-        let r = row(&scene, 0, &RaytraceOptions { rays: 1 << 16, seed: 1 });
+        let r = row(&scene, 0, &RaytraceOptions { rays: 1 << 16, seed: 1, ..Default::default() });
         assert!(within(&r, 1, 2.0 * corner_rect(0.25, 0.25)), "{r:?}");
         assert!(within(&r, 2, 2.0 * corner_rect(0.5, 0.5)), "{r:?}");
         // non-receiver blocker: same hits on the receiver, blocker not reported
@@ -171,16 +190,52 @@ mod tests {
             &BruteForce { scene: &scene },
             &[true, true, false],
             0,
-            &RaytraceOptions { rays: 1 << 16, seed: 1 },
+            &RaytraceOptions { rays: 1 << 16, seed: 1, ..Default::default() },
         )
         .unwrap();
         assert_eq!(r2.entries, vec![r.entries[0]]);
     }
 
     #[test]
+    fn row_tol_stops_when_every_entry_meets_it() {
+        // closed box: entries 0.02-0.2, so 1/(4 tol^2) bounds the rays and the check is real
+        let scene = closed_box(Vec3::ZERO, Vec3::ONE, 2, true);
+        for tol in [0.02, 0.005] {
+            let o = RaytraceOptions { rays: 1 << 16, row_tol: tol, ..Default::default() };
+            let r = row(&scene, 5, &o);
+            let n = r.samples;
+            assert!(n.is_power_of_two() && n >= ROW_TOL_FIRST_CHECK && n as f64 * tol >= 3.0, "{n}");
+            assert!((n as f64) <= 1.0 / (4.0 * tol * tol) * 2.0, "{n} rays for tol {tol}");
+            let se = r.std_err.as_ref().unwrap();
+            assert!(se.iter().all(|&s| s <= tol), "{se:?}");
+            // at half the rays the target was not met (else it would have stopped there)
+            if n > ROW_TOL_FIRST_CHECK {
+                let half = row(&scene, 5, &RaytraceOptions { rays: n / 2, ..o });
+                assert!(half.std_err.unwrap().iter().any(|&s| s > tol));
+            }
+            // the row is the fixed-count row at that many rays, bit for bit
+            assert_eq!(r.entries, row(&scene, 5, &RaytraceOptions { rays: n, row_tol: 0.0, ..o }).entries);
+            // and it agrees with a much longer run within its reported errors
+            let long = row(&scene, 5, &RaytraceOptions { rays: 1 << 18, ..Default::default() });
+            for (k, e) in r.entries.iter().enumerate() {
+                assert!((e.1 - long.get(e.0)).abs() <= 5.0 * se[k] + 1e-3, "{e:?} vs {}", long.get(e.0));
+            }
+        }
+        // the cap holds; row_tol out of range is refused
+        let capped = row(&scene, 5, &RaytraceOptions { rays: 300, row_tol: 1e-4, ..Default::default() });
+        assert_eq!(capped.samples, 300);
+        let vis = BruteForce { scene: &scene };
+        let rec = vec![true; scene.len()];
+        for t in [-0.1, 0.6, f64::NAN] {
+            let o = RaytraceOptions { row_tol: t, ..Default::default() };
+            assert!(matches!(raytrace_row(&scene, &vis, &rec, 0, &o).unwrap_err(), Error::InvalidArgument(_)));
+        }
+    }
+
+    #[test]
     fn seeded_and_reproducible() {
         let scene = closed_box(Vec3::ZERO, Vec3::ONE, 2, true);
-        let o = RaytraceOptions { rays: 256, seed: 5 };
+        let o = RaytraceOptions { rays: 256, seed: 5, ..Default::default() };
         assert_eq!(row(&scene, 3, &o), row(&scene, 3, &o));
         assert_ne!(row(&scene, 3, &o), row(&scene, 3, &RaytraceOptions { seed: 6, ..o }));
     }
@@ -190,7 +245,9 @@ mod tests {
         let scene = parallel_squares(1.0);
         let vis = BruteForce { scene: &scene };
         for rays in [0u32, u32::MAX] {
-            let e = raytrace_row(&scene, &vis, &[true, true], 0, &RaytraceOptions { rays, seed: 0 }).unwrap_err();
+            let e =
+                raytrace_row(&scene, &vis, &[true, true], 0, &RaytraceOptions { rays, seed: 0, ..Default::default() })
+                    .unwrap_err();
             assert!(matches!(e, Error::InvalidArgument(_)));
         }
         assert!(raytrace_row(&scene, &vis, &[true], 0, &RaytraceOptions::default()).is_err());

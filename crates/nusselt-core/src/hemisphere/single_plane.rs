@@ -30,10 +30,9 @@
 //! (0.99584 for the default a = 14); the missed horizon band is reported in `RowResult::lost`.
 
 use super::hemicube::{phi, top_cell};
-use super::{check_row, rotated_frame, scene_diameter, Accum, RowResult, SourcePoints};
+use super::{row_over_points, Accum, Points, RowResult, SourcePoints};
 use crate::error::{Error, Result};
 use crate::geometry::{Polygon, Vec3};
-use crate::sampling::hash_unit;
 use std::cell::RefCell;
 use std::f64::consts::PI;
 
@@ -120,8 +119,6 @@ struct Scratch {
     local: Vec<Vec3>,
     clip3: Vec<Vec3>,
     planes: Vec<u32>,
-    points: Vec<(Vec3, f64)>,
-    accum: Accum,
     /// form factor given to ids (receivers or not) at the current point
     assigned: f64,
     weight: f64,
@@ -209,9 +206,9 @@ fn same_plane(a: [f64; 3], b: [f64; 3]) -> bool {
 }
 
 impl Scratch {
-    fn assign(&mut self, id: u32, f: f64) {
+    fn assign(&mut self, acc: &mut Accum, id: u32, f: f64) {
         if id != BACK {
-            self.accum.add(id, self.weight * f);
+            acc.add(id, self.weight * f);
             self.assigned += f;
         }
     }
@@ -228,7 +225,13 @@ impl Scratch {
     }
 
     /// Gives every listed polygon the Lambert value of its part inside the window.
-    fn assign_clipped(&mut self, list: std::ops::Range<usize>, r: [f64; 4], plane_of: Option<[f64; 3]>) {
+    fn assign_clipped(
+        &mut self,
+        acc: &mut Accum,
+        list: std::ops::Range<usize>,
+        r: [f64; 4],
+        plane_of: Option<[f64; 3]>,
+    ) {
         for k in list {
             let c = self.stack[k] as usize;
             if let Some(w) = plane_of {
@@ -240,13 +243,13 @@ impl Scratch {
             if self.buf_b.len() >= 3 {
                 let f = lambert_on_plane(&self.buf_b);
                 let id = self.polys[c].id;
-                self.assign(id, f);
+                self.assign(acc, id, f);
             }
         }
     }
 
     /// Warnock recursion on window r = [x0, y0, x1, y1] with candidates stack[cand].
-    fn window(&mut self, r: [f64; 4], cand: std::ops::Range<usize>) {
+    fn window(&mut self, acc: &mut Accum, r: [f64; 4], cand: std::ops::Range<usize>) {
         // one work unit per window and candidate; stop at cancellation or over budget
         if !crate::work::spend(cand.len() as u64 + 1) {
             return;
@@ -295,7 +298,7 @@ impl Scratch {
             let alone = self.planes.len() == 1;
             let covers = cover >= wa * (1.0 - 1e-9);
             if cover <= wa * (1.0 + 1e-9) && (alone || (covers && others_behind)) {
-                self.assign_clipped(list.clone(), r, if alone { None } else { Some(wg) });
+                self.assign_clipped(acc, list.clone(), r, if alone { None } else { Some(wg) });
                 self.stack.truncate(start);
                 self.areas.truncate(start);
                 return;
@@ -320,12 +323,12 @@ impl Scratch {
                 }
             }
             if let Some((_, id)) = best {
-                self.assign(id, ff);
+                self.assign(acc, id, ff);
             }
         } else {
             let (mx, my) = (0.5 * (r[0] + r[2]), 0.5 * (r[1] + r[3]));
             for q in [[r[0], r[1], mx, my], [mx, r[1], r[2], my], [r[0], my, mx, r[3]], [mx, my, r[2], r[3]]] {
-                self.window(q, list.clone());
+                self.window(acc, q, list.clone());
             }
         }
         self.stack.truncate(start);
@@ -341,49 +344,36 @@ pub fn single_plane_row(
     i: usize,
     opts: &SinglePlaneOptions,
 ) -> Result<RowResult> {
-    check_row(scene, receivers, i)?;
     opts.check()?;
+    let a = opts.half_width;
+    let root = [-a, -a, a, a];
+    let rotation = opts.random_rotation.then_some(0x51_9A7E);
+    let points = Points::Rule { source: opts.source, seed: opts.seed, rotation };
     SCRATCH.with(|s| {
         let mut s = s.borrow_mut();
         let s = &mut *s;
-        let src = &scene[i];
-        let n = src.normal();
-        let near = opts.near * src.radius();
-        let a = opts.half_width;
-        let root = [-a, -a, a, a];
-        let mut points = std::mem::take(&mut s.points);
-        opts.source.generate(src, scene_diameter(scene), opts.seed, i, &mut points);
-        s.accum.reset(scene.len());
         s.leaf_ff = opts.min_cell * opts.min_cell / PI;
-        let mut lost = 0.0;
-        for (k, &(p, weight)) in points.iter().enumerate() {
-            let angle = if opts.random_rotation {
-                2.0 * PI * hash_unit(opts.seed, &[i as u64, k as u64, 0x51_9A7E])
-            } else {
-                0.0
-            };
-            let (u, v) = rotated_frame(n, angle);
-            let eye = p + n * (0.5 * near);
+        row_over_points(scene, receivers, i, points, |eye, acc, lost| {
+            let near = opts.near * scene[i].radius();
+            let at = eye.p + eye.n * (0.5 * near);
             s.verts.clear();
             s.polys.clear();
             for (j, poly) in scene.iter().enumerate() {
                 if j != i {
-                    project(s, poly, j as u32, eye, u, v, n, near, root);
+                    project(s, poly, j as u32, at, eye.u, eye.v, eye.n, near, root);
                 }
             }
             s.stack.clear();
             s.areas.clear();
             s.stack.extend(0..s.polys.len() as u32);
             s.areas.resize(s.stack.len(), 0.0); // parallel to stack; root entries unused
-            s.weight = weight;
+            s.weight = eye.weight;
             s.assigned = 0.0;
             let all = 0..s.stack.len();
-            s.window(root, all);
-            lost += weight * (1.0 - s.assigned).max(0.0);
-        }
-        s.points = points;
-        let entries = s.accum.entries(receivers);
-        Ok(RowResult { entries, std_err: None, lost })
+            s.window(acc, root, all);
+            *lost += eye.weight * (1.0 - s.assigned).max(0.0);
+            true
+        })
     })
 }
 

@@ -257,7 +257,7 @@ pub(super) fn adaptive_over_source(
 mod tests {
     use super::super::{pair, Context, VisMethod};
     use super::*;
-    use crate::method::{self, Method};
+    use crate::unobstructed::method::{self, Method};
     use crate::visibility::{Bvh, Occluders};
 
     /// G of the pair (i, j) of `polys` by `clipping`, every other polygon a blocker.

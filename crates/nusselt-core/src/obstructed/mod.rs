@@ -17,12 +17,12 @@ mod rules;
 mod sampled;
 mod subdivision;
 
-use crate::analytic;
 use crate::error::{Error, Result};
 use crate::geometry::{Polygon, Vec3};
-use crate::method::{self, Method, RuleCache};
 use crate::quadrature::AreaRule;
 use crate::sampling::{sobol4, PolygonSampler};
+use crate::unobstructed::analytic;
+use crate::unobstructed::method::{self, Method, RuleCache};
 use crate::visibility::shadow::{
     hides_whole, point_free_and_shadowed, point_shadowed_view_factor, point_visible_view_factor,
 };

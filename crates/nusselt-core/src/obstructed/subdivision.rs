@@ -4,8 +4,8 @@
 use super::rules::centroid3;
 use super::sampled::{cut_at_blocker_planes, per_direction};
 use super::VisOptions;
-use crate::analytic;
 use crate::geometry::{Polygon, Vec3};
+use crate::unobstructed::analytic;
 
 /// The receiver's triangles, each split uniformly into d^2 sub-triangles.
 pub(super) fn subdivide(b: &Polygon, d: usize) -> Vec<[Vec3; 3]> {

@@ -11,12 +11,12 @@
 //! ([`point_visible_view_factor`]), or the per-point estimator of the method asked for.
 
 use super::{morton_ranks, AllOptions, AnyMethod, Scene, CLUSTER};
-use crate::analytic;
 use crate::error::{Error, Result};
 use crate::geometry::{tangent_frame, Polygon, Vec3};
 use crate::matrix::PairBlock;
 use crate::obstructed::{self, Context, VisMethod};
 use crate::quadrature::AreaRule;
+use crate::unobstructed::analytic;
 use crate::visibility::shadow::{hides_whole, point_visible_view_factor, visible_part};
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicBool, Ordering};

@@ -216,6 +216,40 @@ fn matches_brute_force_on_random_scene() {
 }
 
 #[test]
+fn axis_parallel_rays_from_box_planes_hit_the_wall_ahead() {
+    // Directions with zero components (+-0.0) from origins on the grid planes, where node
+    // boxes have their faces: the slab test must neither miss a box nor produce NaN.
+    let k = 5;
+    let polys = room(Vec3::ZERO, Vec3::new(1.0, 2.0, 3.0), k, true);
+    let bvh = Bvh::new(&polys).unwrap();
+    let size = [1.0, 2.0, 3.0];
+    let mut n = 0;
+    for a in 1..k {
+        for b in 1..k {
+            for axis in 0..3 {
+                let (u, w) = ((axis + 1) % 3, (axis + 2) % 3);
+                let mut o = [0.0; 3];
+                o[axis] = 0.5 * size[axis];
+                o[u] = size[u] * a as f64 / k as f64;
+                o[w] = size[w] * b as f64 / k as f64;
+                for sign in [1.0, -1.0] {
+                    for zero in [0.0, -0.0] {
+                        let mut d = [zero; 3];
+                        d[axis] = sign;
+                        let (o, d) = (Vec3::from_array(o), Vec3::from_array(d));
+                        let h = bvh.first_hit(o, d, 0.0, f64::INFINITY, &[]).expect("axis ray escaped the room");
+                        assert!((h.t - 0.5 * size[axis]).abs() < 1e-12 && h.front, "{o} {d}: {h:?}");
+                        assert!(bvh.occluded(o, o + d * size[axis], &[]));
+                        n += 1;
+                    }
+                }
+            }
+        }
+    }
+    assert_eq!(n, 3 * 16 * 4);
+}
+
+#[test]
 fn closed_room_is_watertight_at_edges_and_corners() {
     // Rays from inside a closed, subdivided room aimed exactly at grid vertices and along
     // grid lines (the edges shared by neighbouring patches and by walls) never escape.

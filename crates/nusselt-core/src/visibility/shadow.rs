@@ -252,12 +252,12 @@ fn shadowed_convex(p: Vec3, n: Vec3, cast: &Cast) -> Option<f64> {
     if !is_convex(&cast.rec2) {
         return None;
     }
-    let free = || crate::analytic::point_contour(p, n, &cast.rec).max(0.0);
+    let free = || crate::unobstructed::analytic::point_contour(p, n, &cast.rec).max(0.0);
     // Lambert over a 2-D piece, through the buffer `piece3` for its 3-D outline
     let lambert = |piece: &[[f64; 2]], piece3: &mut Vec<Vec3>| {
         piece3.clear();
         piece3.extend(piece.iter().map(|u| cast.frame.to3d(*u)));
-        crate::analytic::point_contour(p, n, piece3)
+        crate::unobstructed::analytic::point_contour(p, n, piece3)
     };
     SCRATCH.with(|cell| {
         let mut guard = cell.borrow_mut();
@@ -600,9 +600,9 @@ pub fn point_visible_view_factor(p: Vec3, n: Vec3, receiver: &Polygon, blockers:
     let n = n.normalize();
     let Some(cast) = cast(p, n, receiver, blockers) else { return 0.0 };
     if let Some(hidden) = shadowed_convex(p, n, &cast) {
-        return (crate::analytic::point_contour(p, n, &cast.rec) - hidden).max(0.0);
+        return (crate::unobstructed::analytic::point_contour(p, n, &cast.rec) - hidden).max(0.0);
     }
-    visible_part(p, n, receiver, blockers).iter().map(|c| crate::analytic::point_contour(p, n, c)).sum()
+    visible_part(p, n, receiver, blockers).iter().map(|c| crate::unobstructed::analytic::point_contour(p, n, c)).sum()
 }
 
 /// The part of the unobstructed point view factor that the blockers hide: Lambert's formula
@@ -628,7 +628,7 @@ pub fn point_free_and_shadowed(p: Vec3, n: Vec3, receiver: &Polygon, blockers: &
     }
     let n = n.normalize();
     let Some(cast) = cast(p, n, receiver, blockers) else { return (0.0, 0.0) };
-    (crate::analytic::point_contour(p, n, &cast.rec).max(0.0), shadowed(p, n, &cast))
+    (crate::unobstructed::analytic::point_contour(p, n, &cast.rec).max(0.0), shadowed(p, n, &cast))
 }
 
 fn shadowed(p: Vec3, n: Vec3, cast: &Cast) -> f64 {
@@ -641,8 +641,8 @@ fn shadowed(p: Vec3, n: Vec3, cast: &Cast) -> f64 {
 /// [`point_shadowed_view_factor`] by the general boolean: Lambert over the clipped receiver
 /// minus Lambert over what is left after subtracting the union of the shadows.
 fn shadowed_boolean(p: Vec3, n: Vec3, cast: &Cast) -> f64 {
-    let lit: f64 = difference(cast).iter().map(|c| crate::analytic::point_contour(p, n, c)).sum();
-    (crate::analytic::point_contour(p, n, &cast.rec) - lit).max(0.0)
+    let lit: f64 = difference(cast).iter().map(|c| crate::unobstructed::analytic::point_contour(p, n, c)).sum();
+    (crate::unobstructed::analytic::point_contour(p, n, &cast.rec) - lit).max(0.0)
 }
 
 /// Shoelace area of a 2-D contour (positive counter-clockwise).

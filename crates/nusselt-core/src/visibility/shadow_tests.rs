@@ -235,7 +235,7 @@ fn f_vis(p: Vec3, n: Vec3, rec: &Polygon, blockers: &[&Polygon]) -> f64 {
 
 /// Unobstructed Lambert F to a polygon's own outline (flipped to face p if needed).
 fn f_plain(p: Vec3, n: Vec3, poly: &Polygon) -> f64 {
-    crate::analytic::point_contour(p, n, poly.vertices()).abs()
+    crate::unobstructed::analytic::point_contour(p, n, poly.vertices()).abs()
 }
 
 #[test]
@@ -443,7 +443,7 @@ fn convex_path_matches_the_boolean() {
         if let Some(fast) = fast {
             convex += 1;
             shadowed += (slow > 0.0) as usize;
-            let free = crate::analytic::point_contour(p, n, &cast.rec);
+            let free = crate::unobstructed::analytic::point_contour(p, n, &cast.rec);
             assert!((fast - slow).abs() <= 1e-12 * free.max(1e-3), "case {case}: convex {fast} vs boolean {slow}");
         }
         // the public entry points agree with the boolean either way

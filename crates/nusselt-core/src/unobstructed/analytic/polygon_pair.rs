@@ -386,8 +386,8 @@ pub fn polygon_pair_within(a: &Polygon, b: &Polygon, tol: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::analytic::closed_forms as cf;
     use crate::special::gauss_legendre;
+    use crate::unobstructed::analytic::closed_forms as cf;
 
     /// Both evaluation routes of a skew edge pair, forced (closed form, single-line form).
     fn routes(p0: Vec3, p1: Vec3, q0: Vec3, q1: Vec3) -> (f64, f64) {
@@ -840,7 +840,7 @@ mod tests {
                 for j in 0..20 {
                     let r = 0.5 * (1.0 + x[j]);
                     let y = v[0] + s * (v[1] - v[0]) + s * r * (v[2] - v[1]);
-                    let pf = crate::analytic::point_polygon(y, ta.normal(), tb.vertices());
+                    let pf = crate::unobstructed::analytic::point_polygon(y, ta.normal(), tb.vertices());
                     acc += 0.25 * (hi - lo) * w[i] * w[j] * s * jac * pf;
                 }
             }

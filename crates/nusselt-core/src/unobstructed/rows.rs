@@ -1,18 +1,18 @@
 //! `auto` pair rows of an unobstructed scene (a convex enclosure or part of one): the hot
 //! loop of the biggest runs, so the common pair costs a few dozen flops.
 //!
-//! Per pair, exactly what [`crate::method::area_factor`] does with `auto`, in the same order:
+//! Per pair, exactly what [`crate::unobstructed::method::area_factor`] does with `auto`, in the same order:
 //! the facing test (bounding spheres first, the vertices only when a sphere straddles a
 //! plane), then the rule of the [`FarPlan`] from the squared separation, then that rule. The
 //! per-polygon data the loop touches (centroid, normal, radius, second moments) sits in one
 //! contiguous array, and the plan is built once per call instead of once per pair.
 
-use crate::error::{Error, Result};
+use crate::error::{try_filled, Error, Result};
 use crate::geometry::{Polygon, Vec3};
 use crate::matrix::{split_lengths, PairBlock};
-use crate::method::{self, Facing, Options, RuleCache};
-use crate::moments::{moment_rule_formula, Moments};
-use crate::quadrature::FarPlan;
+use crate::unobstructed::far_field::FarPlan;
+use crate::unobstructed::method::{self, Facing, Options, RuleCache};
+use crate::unobstructed::moments::{moment_rule_formula, Moments};
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicBool, Ordering};
 
@@ -30,7 +30,7 @@ struct Patches {
     e: [Vec<f64>; 6],
     /// Largest distance of a vertex from the polygon's own plane (planarity tolerance).
     thickness: Vec<f64>,
-    /// A regular quad ([`crate::quadrature::is_regular_quad`]): tighter rule thresholds.
+    /// A regular quad ([`crate::unobstructed::far_field::is_regular_quad`]): tighter rule thresholds.
     regular: Vec<bool>,
     receiver: Vec<bool>,
 }
@@ -43,7 +43,7 @@ impl Patches {
                 let p = &polys[k];
                 let thickness =
                     p.vertices().iter().map(|v| (*v - p.centroid()).dot(p.normal()).abs()).fold(0.0, f64::max);
-                (*rules.moments(k, p), p.radius(), thickness, crate::quadrature::is_regular_quad(p))
+                (*rules.moments(k, p), p.radius(), thickness, crate::unobstructed::far_field::is_regular_quad(p))
             })
             .collect();
         let col = |f: &dyn Fn(&(Moments, f64, f64, bool)) -> f64| per.iter().map(f).collect::<Vec<f64>>();
@@ -103,7 +103,7 @@ const CHUNK: usize = 256;
 /// classifies each pair (nothing exchanged / moment rule / anything else) and evaluates the
 /// moment rule everywhere (it vectorises, and the moment rule is what most pairs of a large
 /// scene use), then a scalar pass keeps the moment values and computes the other pairs
-/// exactly as [`crate::method::area_factor`] would.
+/// exactly as [`crate::unobstructed::method::area_factor`] would.
 pub(crate) fn pair_block(
     polys: &[Polygon],
     receiver: &[bool],
@@ -128,7 +128,9 @@ pub(crate) fn pair_block(
     // are then moved together in place. No per-row buffers and no second copy of the block.
     let room: Vec<usize> = rows.iter().map(|&i| if receiver[i] { n - i - 1 } else { 0 }).collect();
     let total: usize = room.iter().sum();
-    let (mut cols, mut vals) = (vec![0i32; total], vec![0.0f64; total]);
+    // refused as an error, not a process abort, when the block cannot fit in memory
+    let mut cols = try_filled("a block's column indices", total, 0i32)?;
+    let mut vals = try_filled("a block's entries", total, 0.0f64)?;
     let jobs: Vec<_> = rows
         .iter()
         .zip(split_lengths(&mut cols, room.iter().copied()))
@@ -327,9 +329,9 @@ fn other_pair(
 
 #[cfg(test)]
 mod tests {
-    use crate::method::{self, Method, Options, RuleCache};
     use crate::obstructed::VisMethod;
     use crate::scene::{AllOptions, AnyMethod, Scene};
+    use crate::unobstructed::method::{self, Method, Options, RuleCache};
     use crate::{Polygon, Vec3};
     use std::sync::atomic::AtomicBool;
 
@@ -406,7 +408,7 @@ mod tests {
         let scene = Scene::new(polys.clone(), vec![true; n]).unwrap();
         let rows: Vec<usize> = (0..n).collect();
         for tol in [0.03, 1e-3] {
-            let plan = crate::quadrature::FarPlan::new(tol);
+            let plan = crate::unobstructed::far_field::FarPlan::new(tol);
             let mut o = AllOptions::default();
             o.exact.tol = tol;
             let out = scene.pair_rows(&rows, AnyMethod::Visible(VisMethod::Auto), &o, &AtomicBool::new(false)).unwrap();
@@ -422,7 +424,7 @@ mod tests {
                     let (a, b) = (&polys[i], &polys[j]);
                     let (d, r) = (b.centroid() - a.centroid(), a.radius() + b.radius());
                     if method::facing(a, b) == method::Facing::Full
-                        && plan.rule_sq(d.dot(d), r * r, true) == crate::quadrature::FarRule::Moment4
+                        && plan.rule_sq(d.dot(d), r * r, true) == crate::unobstructed::far_field::FarRule::Moment4
                     {
                         fourth += 1;
                     }

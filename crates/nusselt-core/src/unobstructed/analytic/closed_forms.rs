@@ -226,9 +226,9 @@ pub fn point_rectangle_corner_perpendicular(a: f64, b: f64, c: f64) -> Result<f6
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::analytic::lambert::point_polygon;
     use crate::geometry::Vec3;
     use crate::special::gauss_legendre;
+    use crate::unobstructed::analytic::lambert::point_polygon;
 
     /// Breakpoints on [a, b], graded geometrically (ratio 1/4, `levels` times) toward a and/or b.
     fn graded(a: f64, b: f64, toward_a: bool, toward_b: bool, levels: usize) -> Vec<f64> {

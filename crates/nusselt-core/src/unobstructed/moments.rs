@@ -23,7 +23,7 @@
 //!
 //! The neglected terms are of third order in size/distance (zero third moments, e.g. for
 //! parallelograms, leave fourth order). The relative error is calibrated per separation like
-//! the Gauss rules (`calibrate_moment_rule`, ignored test) in [`crate::quadrature`]; the rule
+//! the Gauss rules (`calibrate_moment_rule`, ignored test) in [`crate::unobstructed::far_field`]; the rule
 //! costs about as much as one point pair of a Gauss rule.
 //!
 //! # Fourth order, for parallelograms
@@ -188,7 +188,7 @@ pub(crate) fn fourth_order_term(d: Vec3, na: Vec3, nb: Vec3, ea: &[Vec3; 2], eb:
 /// parallelograms, module docs). Branch-free, so that the scene loop's pass over a row
 /// vectorises with a mix of both; with a constant `false` the fourth-order terms are dead code
 /// after inlining. Shared by [`moment_pair`], [`moment4_pair`] and the scene loop
-/// (`unobstructed_rows`), which gathers b's numbers from arrays.
+/// (`unobstructed::rows`), which gathers b's numbers from arrays.
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn moment_rule_formula(
@@ -227,7 +227,7 @@ pub fn moment_pair(a: &Moments, b: &Moments) -> f64 {
 }
 
 /// A_a F_ab by the fourth-order moment rule (module docs); for two parallelograms (e.g.
-/// [`crate::quadrature::is_regular_quad`]) each in the other's closed front half-space, far
+/// [`crate::unobstructed::far_field::is_regular_quad`]) each in the other's closed front half-space, far
 /// apart compared with their size. Symmetric in a and b up to rounding.
 #[inline(always)]
 pub fn moment4_pair(a: &Moments, b: &Moments) -> f64 {
@@ -257,7 +257,8 @@ pub fn centroid_pair(a: &Moments, b: &Moments) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::quadrature::tests::{random_far_pair, reference_aff, Rng};
+    use crate::quadrature::area_rules::tests::Rng;
+    use crate::unobstructed::far_field::tests::{random_far_pair, reference_aff};
 
     fn square(c: Vec3, u: Vec3, w: Vec3, h: f64) -> Polygon {
         let (u, w) = (u * (0.5 * h), w * (0.5 * h));
@@ -321,7 +322,7 @@ mod tests {
             if b.normal().dot(a.centroid() - b.centroid()) < 0.0 {
                 b = Polygon::new(b.vertices().iter().rev().copied().collect()).unwrap();
             }
-            assert_eq!(crate::method::facing(&a, &b), crate::method::Facing::Full);
+            assert_eq!(crate::unobstructed::method::facing(&a, &b), crate::unobstructed::method::Facing::Full);
             let (ma, mb) = (Moments::new(&a), Moments::new(&b));
             let r = reference_aff(&a, &b, 24);
             let e4 = (moment4_pair(&ma, &mb) - r).abs() / r;
@@ -343,10 +344,10 @@ mod tests {
         let mut rng = Rng(99);
         let mut worst = 0.0f64;
         for _ in 0..40 {
-            let (a, b) = crate::quadrature::tests::random_far_pair_of(
+            let (a, b) = crate::unobstructed::far_field::tests::random_far_pair_of(
                 &mut rng,
                 16.0,
-                crate::quadrature::tests::random_regular_outline,
+                crate::unobstructed::far_field::tests::random_regular_outline,
             );
             let r = reference_aff(&a, &b, 20);
             let (ma, mb) = (Moments::new(&a), Moments::new(&b));
@@ -388,7 +389,7 @@ mod tests {
         rule: fn(&Moments, &Moments) -> f64,
     ) {
         use rayon::prelude::*;
-        let seps = crate::quadrature::FAR_SEPS;
+        let seps = crate::unobstructed::far_field::FAR_SEPS;
         let rows: Vec<(f64, f64)> = seps
             .par_iter()
             .zip(pairs)
@@ -418,22 +419,25 @@ mod tests {
     ) -> Vec<Vec<(Polygon, Polygon)>> {
         let samples: usize = std::env::var("NUSSELT_CAL_SAMPLES").ok().and_then(|s| s.parse().ok()).unwrap_or(300);
         let mut rng = Rng(seed);
-        crate::quadrature::FAR_SEPS.iter().map(|&s| (0..samples).map(|_| pair(&mut rng, s)).collect()).collect()
+        crate::unobstructed::far_field::FAR_SEPS
+            .iter()
+            .map(|&s| (0..samples).map(|_| pair(&mut rng, s)).collect())
+            .collect()
     }
 
-    /// Prints `quadrature::REGULAR_MOMENT4_ERRS`: the fourth-order rule on the same random
+    /// Prints `far_field::REGULAR_MOMENT4_ERRS`: the fourth-order rule on the same random
     /// pairs of regular quads (same seed and generator) as `calibrate_regular_quads`; the
     /// reference orders are higher than `calibrate_moment_rule`'s (the errors are smaller).
     /// Run: cargo test --release -p nusselt-core calibrate_moment4_rule -- --ignored --nocapture
     #[test]
     #[ignore]
     fn calibrate_moment4_rule() {
-        use crate::quadrature::tests::{random_far_pair_of, random_regular_outline};
+        use crate::unobstructed::far_field::tests::{random_far_pair_of, random_regular_outline};
         let pairs = calibration_pairs(4048, |rng, s| random_far_pair_of(rng, s, random_regular_outline));
         print_calibration("REGULAR_MOMENT4_ERRS", &pairs, |s| if s < 2.0 { (32, 24) } else { (24, 20) }, moment4_pair);
     }
 
-    /// Prints the moment rule's calibration rows for `quadrature::MOMENT_ERRS`: the same
+    /// Prints the moment rule's calibration rows for `far_field::MOMENT_ERRS`: the same
     /// random pairs (same seed and generator) as `calibrate_far_field`. The reference is a
     /// compensated Gauss rule of lower order than there (the moment rule's errors are far
     /// larger than the Gauss rules'), and its uncertainty (difference to a lower order) is

@@ -1,17 +1,18 @@
 //! Method selection for one pair or one point, unobstructed.
 //!
 //! `auto` picks per pair, from the pair's relative separation, the cheapest rule whose
-//! calibrated relative error stays below `tol` ([`quadrature::FarPlan`]): a Gauss area rule
-//! or a moment rule ([`crate::moments`]: second order, or fourth order for pairs of
+//! calibrated relative error stays below `tol` ([`far_field::FarPlan`]): a Gauss area rule
+//! or a moment rule ([`crate::unobstructed::moments`]: second order, or fourth order for pairs of
 //! parallelograms) when the polygons are far apart compared with their size (the kernel is
 //! smooth there), the exact closed form when the pair is close, touching or straddles a plane.
 
-use crate::analytic;
-use crate::contour;
+use super::far_field::{self, FarPlan, FarRule, PackedRule};
 use crate::error::{Error, Result};
 use crate::geometry::{Polygon, Vec3};
-use crate::moments::{moment4_pair, moment_pair, Moments};
-use crate::quadrature::{self, AreaRule, FarPlan, FarRule, PackedRule};
+use crate::quadrature::AreaRule;
+use crate::unobstructed::analytic;
+use crate::unobstructed::contour;
+use crate::unobstructed::moments::{moment4_pair, moment_pair, Moments};
 use std::sync::OnceLock;
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -154,7 +155,7 @@ pub fn area_factor_facing(
         Method::Analytic => Ok(analytic::polygon_pair(a, b)),
         Method::Contour => contour::polygon_pair(a, b, opts.nodes),
         Method::Auto => {
-            let regular = quadrature::is_regular_quad(a) && quadrature::is_regular_quad(b);
+            let regular = far_field::is_regular_quad(a) && far_field::is_regular_quad(b);
             Ok(auto_pair(a, b, f, &FarPlan::cached(opts.tol), regular, cache))
         }
     }
@@ -190,8 +191,8 @@ pub fn full_facing_pair(
 ) -> f64 {
     match rule {
         FarRule::Gauss(order) if order <= MAX_AUTO_ORDER => match cache {
-            Some((c, ia, ib)) => quadrature::far_pair(c.get(ia, a, order), a.normal(), c.get(ib, b, order), b.normal()),
-            None => quadrature::far_pair(
+            Some((c, ia, ib)) => far_field::far_pair(c.get(ia, a, order), a.normal(), c.get(ib, b, order), b.normal()),
+            None => far_field::far_pair(
                 &PackedRule::new(&AreaRule::new(a, order), a),
                 a.normal(),
                 &PackedRule::new(&AreaRule::new(b, order), b),

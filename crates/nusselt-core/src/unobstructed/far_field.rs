@@ -1,285 +1,15 @@
-//! Gauss quadrature: Gauss-Legendre tables, area rules on polygons and the far-field
-//! double area integral A_a F_ab = ∫_a ∫_b cos θ_a cos θ_b / (π r²) dA_b dA_a.
+//! The far-field double area integral A_a F_ab = ∫_a ∫_b cos θ_a cos θ_b / (π r²) dA_b dA_a
+//! by Gauss area rules, and `auto`'s plan of which rule to use ([`FarPlan`]).
 //!
 //! Tensor Gauss rules converge exponentially for separated pairs and only algebraically for
 //! touching ones (docs/algorithms.md §7.2), so [`far_field_order`] picks an order from the relative
 //! separation and returns `None` when the pair is too close: the caller then uses an exact
 //! kernel (contour or analytic).
 
-use crate::error::{Error, Result};
 use crate::geometry::{Polygon, Vec3};
+use crate::quadrature::AreaRule;
 use std::f64::consts::PI;
 use std::sync::OnceLock;
-
-/// Largest tabulated Gauss order.
-pub const MAX_ORDER: usize = 64;
-
-/// Rules are computed on first use, one order at a time: the high orders (Newton iterations on
-/// Jacobi polynomials) cost far more than the low ones that distant pairs need, and a process
-/// that never asks for them should not pay for them.
-struct Tables {
-    legendre: Vec<OnceLock<Vec<(f64, f64)>>>,
-    jacobi10: Vec<OnceLock<Vec<(f64, f64)>>>,
-}
-
-fn tables() -> &'static Tables {
-    static T: OnceLock<Tables> = OnceLock::new();
-    T.get_or_init(|| Tables {
-        legendre: (0..MAX_ORDER).map(|_| OnceLock::new()).collect(),
-        jacobi10: (0..MAX_ORDER).map(|_| OnceLock::new()).collect(),
-    })
-}
-
-/// Gauss-Legendre nodes and weights on [0, 1], n = 1..=64 (exact for degree 2n - 1).
-///
-/// Panics if n is outside 1..=64: that is a programming error of the caller; use
-/// [`try_gauss_legendre`] for values that come from users.
-pub fn gauss_legendre(n: usize) -> &'static [(f64, f64)] {
-    assert!((1..=MAX_ORDER).contains(&n), "gauss_legendre: n = {n} is outside 1..={MAX_ORDER}");
-    tables().legendre[n - 1].get_or_init(|| legendre_rule(n))
-}
-
-/// Checked [`gauss_legendre`].
-pub fn try_gauss_legendre(n: usize) -> Result<&'static [(f64, f64)]> {
-    check_order(n, "Gauss-Legendre order")?;
-    Ok(gauss_legendre(n))
-}
-
-fn check_order(n: usize, what: &str) -> Result<()> {
-    if (1..=MAX_ORDER).contains(&n) {
-        Ok(())
-    } else {
-        Err(Error::InvalidArgument(format!("{what} must be in 1..={MAX_ORDER}, got {n}")))
-    }
-}
-
-/// Gauss-Jacobi rule for the weight (1 - u) on [0, 1] (α = 1, β = 0 on [-1, 1]): exact for
-/// ∫_0^1 (1 - u) p(u) du with deg p <= 2n - 1. Used in the collapsed triangle rule.
-fn gauss_jacobi10(n: usize) -> &'static [(f64, f64)] {
-    tables().jacobi10[n - 1].get_or_init(|| jacobi10_rule(n))
-}
-
-/// Legendre P_n(x) and P_n'(x) by the three-term recurrence
-/// k P_k = (2k - 1) x P_{k-1} - (k - 1) P_{k-2}, differentiated term by term.
-fn legendre_p(n: usize, x: f64) -> (f64, f64) {
-    let (mut p0, mut p1) = (0.0, 1.0);
-    let (mut d0, mut d1) = (0.0, 0.0);
-    for k in 1..=n {
-        let kf = k as f64;
-        let p2 = ((2.0 * kf - 1.0) * x * p1 - (kf - 1.0) * p0) / kf;
-        let d2 = ((2.0 * kf - 1.0) * (p1 + x * d1) - (kf - 1.0) * d0) / kf;
-        (p0, p1, d0, d1) = (p1, p2, d1, d2);
-    }
-    (p1, d1)
-}
-
-/// Newton on P_n from the guesses cos(π (i + 3/4) / (n + 1/2)); weights 2 / ((1 - x²) P_n'²)
-/// (Abramowitz & Stegun 25.4.29), mapped from [-1, 1] to [0, 1].
-fn legendre_rule(n: usize) -> Vec<(f64, f64)> {
-    let mut out = Vec::with_capacity(n);
-    for i in 0..n {
-        let mut x = (PI * (i as f64 + 0.75) / (n as f64 + 0.5)).cos();
-        for _ in 0..100 {
-            let (p, dp) = legendre_p(n, x);
-            let dx = p / dp;
-            x -= dx;
-            if dx.abs() <= 1e-16 {
-                break;
-            }
-        }
-        let (_, dp) = legendre_p(n, x);
-        let w = 2.0 / ((1.0 - x * x) * dp * dp);
-        out.push((0.5 * (1.0 - x), 0.5 * w));
-    }
-    out.sort_by(|a, b| a.0.total_cmp(&b.0));
-    out
-}
-
-/// Jacobi P_n^(α,β)(x), α = 1, β = 0, and its derivative, by DLMF 18.9.1 with s = 2k + α + β:
-/// 2k(k + α + β)(s - 2) P_k = (s - 1)[s(s - 2)x + α² - β²] P_{k-1} - 2(k + α - 1)(k + β - 1)s P_{k-2}.
-fn jacobi10_p(n: usize, x: f64) -> (f64, f64) {
-    let (a, b) = (1.0f64, 0.0f64);
-    let (mut p0, mut p1) = (0.0, 1.0);
-    let (mut d0, mut d1) = (0.0, 0.0);
-    for k in 1..=n {
-        let k = k as f64;
-        let s = 2.0 * k + a + b;
-        let c = 2.0 * k * (k + a + b) * (s - 2.0);
-        let lin = (s - 1.0) * s * (s - 2.0);
-        let con = (s - 1.0) * (a * a - b * b);
-        let back = 2.0 * (k + a - 1.0) * (k + b - 1.0) * s;
-        let p2 = ((lin * x + con) * p1 - back * p0) / c;
-        let d2 = ((lin * x + con) * d1 + lin * p1 - back * d0) / c;
-        (p0, p1, d0, d1) = (p1, p2, d1, d2);
-    }
-    (p1, d1)
-}
-
-/// Gauss-Jacobi (α = 1, β = 0): roots bracketed on a fine grid in θ (x = cos θ), polished by
-/// safeguarded Newton; weights 4 / ((1 - x²) P_n'(x)²) (Szegő 15.3.5 with α = 1, β = 0, where
-/// the gamma-function prefactor is 1). Mapped to [0, 1] with weight (1 - u): w / 4.
-fn jacobi10_rule(n: usize) -> Vec<(f64, f64)> {
-    let m = 64 * n + 64;
-    let mut out = Vec::with_capacity(n);
-    let xs: Vec<f64> = (0..=m).map(|i| (PI * i as f64 / m as f64).cos()).collect();
-    for i in 0..m {
-        let (mut hi, mut lo) = (xs[i], xs[i + 1]); // hi > lo
-        let (mut phi, _) = jacobi10_p(n, hi);
-        let (plo, _) = jacobi10_p(n, lo);
-        if phi == 0.0 {
-            // a grid point hit the root exactly: count it once, at the interval's upper end
-            if i > 0 {
-                out.push(hi);
-            }
-            continue;
-        }
-        if phi.signum() == plo.signum() {
-            continue;
-        }
-        let mut x = 0.5 * (hi + lo);
-        for _ in 0..200 {
-            let (p, dp) = jacobi10_p(n, x);
-            if p == 0.0 {
-                break;
-            }
-            if p.signum() == phi.signum() {
-                hi = x;
-                phi = p;
-            } else {
-                lo = x;
-            }
-            let newton = x - p / dp;
-            let nx = if newton > lo && newton < hi { newton } else { 0.5 * (hi + lo) };
-            if (nx - x).abs() <= 1e-17 * (1.0 + x.abs()) || hi - lo <= 1e-16 {
-                x = nx;
-                break;
-            }
-            x = nx;
-        }
-        out.push(x);
-    }
-    debug_assert_eq!(out.len(), n);
-    let mut rule: Vec<(f64, f64)> = out
-        .into_iter()
-        .map(|x| {
-            let (_, dp) = jacobi10_p(n, x);
-            let w = 4.0 / ((1.0 - x * x) * dp * dp);
-            (0.5 * (1.0 + x), 0.25 * w)
-        })
-        .collect();
-    rule.sort_by(|a, b| a.0.total_cmp(&b.0));
-    rule
-}
-
-/// Quadrature points and weights on a polygon: Σ w_k f(x_k) ≈ ∫_P f dA, Σ w_k = area.
-///
-/// * Convex quadrilateral: order x order tensor Gauss-Legendre through the bilinear map
-///   x(u,v) with Jacobian n·(x_u × x_v) (linear in u and v for a planar quad). Exact for
-///   polynomials of degree 2·order - 1 on parallelograms, 2·order - 2 on general convex quads
-///   (order 1 is the area centroid with the area as weight: exact for degree 1).
-/// * Triangle: collapsed (Duffy / Stroud conical product) map x = p0 + u e1 + (1 - u) v e2,
-///   Jacobian 2A(1 - u), with Gauss-Jacobi(1,0) in u and Gauss-Legendre in v: order² points,
-///   all inside, all weights positive, exact for total degree 2·order - 1.
-/// * Any other polygon (and concave quads): the triangle rule on each triangle of
-///   [`Polygon::triangulate`].
-#[derive(Debug, Clone, PartialEq)]
-pub struct AreaRule {
-    pub points: Vec<Vec3>,
-    pub weights: Vec<f64>,
-}
-
-impl AreaRule {
-    /// Panics if `order` is outside 1..=64 (a caller error); see [`AreaRule::try_new`].
-    pub fn new(poly: &Polygon, order: usize) -> AreaRule {
-        assert!((1..=MAX_ORDER).contains(&order), "AreaRule: order {order} is outside 1..={MAX_ORDER}");
-        let v = poly.vertices();
-        let n = poly.normal();
-        let mut rule = AreaRule { points: Vec::new(), weights: Vec::new() };
-        if v.len() == 4 && convex_quad(v, n) {
-            rule.push_quad(v, n, order);
-        } else if v.len() == 3 {
-            rule.push_triangle(v[0], v[1], v[2], n, order);
-        } else {
-            for [i, j, k] in poly.triangulate() {
-                rule.push_triangle(v[i], v[j], v[k], n, order);
-            }
-        }
-        rule
-    }
-
-    /// Checked [`AreaRule::new`].
-    pub fn try_new(poly: &Polygon, order: usize) -> Result<AreaRule> {
-        check_order(order, "area rule order")?;
-        Ok(AreaRule::new(poly, order))
-    }
-
-    pub fn len(&self) -> usize {
-        self.points.len()
-    }
-
-    pub fn is_empty(&self) -> bool {
-        self.points.is_empty()
-    }
-
-    fn push_quad(&mut self, v: &[Vec3], n: Vec3, order: usize) {
-        if order == 1 {
-            // The bilinear map's centre is the vertex mean, not the area centroid, so the
-            // one-point tensor rule would be exact for constants only: use the centroid.
-            let (a1, a2) = ((v[1] - v[0]).cross(v[2] - v[0]).dot(n), (v[2] - v[0]).cross(v[3] - v[0]).dot(n));
-            let c = ((v[0] + v[1] + v[2]) * a1 + (v[0] + v[2] + v[3]) * a2) / (3.0 * (a1 + a2));
-            self.points.push(c);
-            self.weights.push(0.5 * (a1 + a2));
-            return;
-        }
-        let g = gauss_legendre(order);
-        self.points.reserve(order * order);
-        self.weights.reserve(order * order);
-        for &(u, wu) in g {
-            for &(t, wt) in g {
-                let x =
-                    v[0] * ((1.0 - u) * (1.0 - t)) + v[1] * (u * (1.0 - t)) + v[2] * (u * t) + v[3] * ((1.0 - u) * t);
-                let xu = (v[1] - v[0]) * (1.0 - t) + (v[2] - v[3]) * t;
-                let xt = (v[3] - v[0]) * (1.0 - u) + (v[2] - v[1]) * u;
-                self.points.push(x);
-                self.weights.push(wu * wt * xu.cross(xt).dot(n));
-            }
-        }
-    }
-
-    fn push_triangle(&mut self, p0: Vec3, p1: Vec3, p2: Vec3, n: Vec3, order: usize) {
-        let twice_area = (p1 - p0).cross(p2 - p0).dot(n);
-        if !(twice_area > 0.0) {
-            return; // collinear remnant of a triangulation: no area
-        }
-        for (x, w) in triangle_rule(p0, p1, p2, twice_area, order) {
-            self.points.push(x);
-            self.weights.push(w);
-        }
-    }
-}
-
-/// The triangle rule of [`AreaRule`] (collapsed Gauss-Jacobi(1,0) x Gauss-Legendre, order^2
-/// points) on the triangle p0 p1 p2 whose twice area the caller gives (signed for signed fans;
-/// exact quarters for midpoint children, where recomputing it would add rounding).
-pub(crate) fn triangle_rule(
-    p0: Vec3,
-    p1: Vec3,
-    p2: Vec3,
-    twice_area: f64,
-    order: usize,
-) -> impl Iterator<Item = (Vec3, f64)> {
-    let (gj, gl) = (gauss_jacobi10(order), gauss_legendre(order));
-    let (e1, e2) = (p1 - p0, p2 - p0);
-    gj.iter().flat_map(move |&(u, wu)| {
-        gl.iter().map(move |&(t, wt)| (p0 + e1 * u + e2 * ((1.0 - u) * t), twice_area * wu * wt))
-    })
-}
-
-/// Convex (strictly, counter-clockwise about n) quadrilateral: every corner turns left.
-fn convex_quad(v: &[Vec3], n: Vec3) -> bool {
-    let scale = (v[2] - v[0]).length_squared().max((v[3] - v[1]).length_squared());
-    (0..4).all(|i| (v[(i + 1) % 4] - v[i]).cross(v[(i + 2) % 4] - v[(i + 1) % 4]).dot(n) > 1e-12 * scale)
-}
 
 /// Far-field double area integral:
 ///
@@ -546,7 +276,7 @@ const FAR_ERRS: &[[f64; MAX_FAR_ORDER]] = &[
 ];
 
 /// Calibrated worst-case relative errors of the second-moment rule
-/// ([`crate::moments::moment_pair`]) per FAR_SEPS row, printed by `calibrate_moment_rule`
+/// ([`crate::unobstructed::moments::moment_pair`]) per FAR_SEPS row, printed by `calibrate_moment_rule`
 /// (the same random pairs as FAR_ERRS; reference: compensated Gauss order 24/20 below s = 2,
 /// 20/16 above, its uncertainty added). Worst cases decay about as s^-2: third-order terms
 /// (triangles, concave shapes) and pairs resting on each other's plane.
@@ -646,7 +376,7 @@ const REGULAR_MOMENT_ERRS: &[f64] = &[
 ];
 const _: () = assert!(REGULAR_FAR_ERRS.len() == FAR_SEPS.len() && REGULAR_MOMENT_ERRS.len() == FAR_SEPS.len());
 
-/// Worst relative error of the fourth-order moment rule ([`crate::moments::moment4_pair`]) on
+/// Worst relative error of the fourth-order moment rule ([`crate::unobstructed::moments::moment4_pair`]) on
 /// pairs of regular quads, printed by `calibrate_moment4_rule`: the same pairs as
 /// REGULAR_MOMENT_ERRS, reference compensated Gauss order 32/24 below s = 2 and 24/20 above
 /// (uncertainty at most 7e-12, added). It decays about as s^-6 (s^-4 from 4 to 16, where the
@@ -795,9 +525,9 @@ pub fn is_regular_quad(poly: &Polygon) -> bool {
 pub enum FarRule {
     /// Tensor Gauss rule of this order on both polygons ([`far_pair`]).
     Gauss(usize),
-    /// The second-moment rule ([`crate::moments::moment_pair`]): one division per pair.
+    /// The second-moment rule ([`crate::unobstructed::moments::moment_pair`]): one division per pair.
     Moment,
-    /// The fourth-order moment rule ([`crate::moments::moment4_pair`]), pairs of regular quads
+    /// The fourth-order moment rule ([`crate::unobstructed::moments::moment4_pair`]), pairs of regular quads
     /// only: a few times the second-order rule's cost, against Gauss order 3's 81 point pairs.
     Moment4,
     /// Too close for any calibrated rule: an exact kernel.
@@ -958,149 +688,7 @@ impl FarPlan {
 pub(crate) mod tests {
     use super::*;
     use crate::geometry::tangent_frame;
-
-    /// Small deterministic generator (splitmix64) for the random geometries of the tests.
-    pub(crate) struct Rng(pub u64);
-    impl Rng {
-        pub fn next_u64(&mut self) -> u64 {
-            self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-            let mut z = self.0;
-            z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-            z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-            z ^ (z >> 31)
-        }
-        pub fn unit(&mut self) -> f64 {
-            (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
-        }
-        pub fn range(&mut self, lo: f64, hi: f64) -> f64 {
-            lo + (hi - lo) * self.unit()
-        }
-        pub fn dir(&mut self) -> Vec3 {
-            loop {
-                let v = Vec3::new(self.range(-1., 1.), self.range(-1., 1.), self.range(-1., 1.));
-                let l = v.length();
-                if l > 0.1 && l <= 1.0 {
-                    return v / l;
-                }
-            }
-        }
-    }
-
-    #[test]
-    fn gauss_legendre_is_exact_to_degree_2n_minus_1() {
-        for n in 1..=MAX_ORDER {
-            let g = gauss_legendre(n);
-            assert_eq!(g.len(), n);
-            assert!(g.iter().all(|&(x, w)| x > 0.0 && x < 1.0 && w > 0.0));
-            for k in 0..2 * n {
-                let q: f64 = g.iter().map(|&(x, w)| w * x.powi(k as i32)).sum();
-                let exact = 1.0 / (k as f64 + 1.0);
-                assert!(
-                    (q - exact).abs() <= 4e-15 * exact.max(1e-3) * (1.0 + k as f64 / 8.0),
-                    "n={n} k={k}: {q} vs {exact}"
-                );
-            }
-            // not exact one degree higher (n <= 10 where the defect is above rounding)
-            if n <= 10 {
-                let k = 2 * n;
-                let q: f64 = g.iter().map(|&(x, w)| w * x.powi(k as i32)).sum();
-                assert!((q - 1.0 / (k as f64 + 1.0)).abs() > 1e-14);
-            }
-        }
-    }
-
-    #[test]
-    fn gauss_jacobi_is_exact_to_degree_2n_minus_1() {
-        for n in 1..=MAX_ORDER {
-            let g = gauss_jacobi10(n);
-            assert_eq!(g.len(), n, "n={n}");
-            assert!(g.iter().all(|&(x, w)| x > 0.0 && x < 1.0 && w > 0.0));
-            for k in 0..2 * n {
-                // ∫_0^1 (1 - u) u^k du = 1 / ((k + 1)(k + 2))
-                let q: f64 = g.iter().map(|&(x, w)| w * x.powi(k as i32)).sum();
-                let exact = 1.0 / ((k as f64 + 1.0) * (k as f64 + 2.0));
-                assert!((q - exact).abs() <= 1e-14 * exact.max(1e-3), "n={n} k={k}: {q} vs {exact}");
-            }
-        }
-    }
-
-    #[test]
-    fn bad_orders_are_errors() {
-        for n in [0, 65, 1_000_000_000] {
-            assert!(matches!(try_gauss_legendre(n), Err(Error::InvalidArgument(_))));
-            let p = Polygon::new(vec![Vec3::ZERO, Vec3::X, Vec3::Y]).unwrap();
-            assert!(matches!(AreaRule::try_new(&p, n), Err(Error::InvalidArgument(_))));
-        }
-    }
-
-    /// ∫_P x^a y^b dA in the polygon's own plane coordinates, by Green's theorem
-    /// ∫_P x^a y^b dA = ∮ x^(a+1) y^b / (a + 1) dy, each edge integrated exactly by 1-D Gauss.
-    fn green_moment(p: &Polygon, a: i32, b: i32) -> f64 {
-        let (t, s) = tangent_frame(p.normal());
-        let o = p.centroid();
-        let v = p.vertices();
-        let g = gauss_legendre(((a + b) as usize / 2 + 2).min(MAX_ORDER));
-        let mut sum = 0.0;
-        for i in 0..v.len() {
-            let (p0, p1) = (v[i] - o, v[(i + 1) % v.len()] - o);
-            let (x0, y0, x1, y1) = (p0.dot(t), p0.dot(s), p1.dot(t), p1.dot(s));
-            for &(u, w) in g {
-                let (x, y) = (x0 + u * (x1 - x0), y0 + u * (y1 - y0));
-                sum += w * x.powi(a + 1) * y.powi(b) / (a + 1) as f64 * (y1 - y0);
-            }
-        }
-        sum
-    }
-
-    fn rule_moment(p: &Polygon, r: &AreaRule, a: i32, b: i32) -> f64 {
-        let (t, s) = tangent_frame(p.normal());
-        let o = p.centroid();
-        r.points.iter().zip(&r.weights).map(|(x, w)| w * (*x - o).dot(t).powi(a) * (*x - o).dot(s).powi(b)).sum()
-    }
-
-    fn placed(v2: &[[f64; 2]], rng: &mut Rng) -> Polygon {
-        let n = rng.dir();
-        let (t, s) = tangent_frame(n);
-        let o = Vec3::new(rng.range(-3., 3.), rng.range(-3., 3.), rng.range(-3., 3.));
-        Polygon::new(v2.iter().map(|q| o + t * q[0] + s * q[1]).collect()).unwrap()
-    }
-
-    #[test]
-    fn area_rules_integrate_polynomials_exactly() {
-        let mut rng = Rng(7);
-        let shapes: Vec<(Vec<[f64; 2]>, usize)> = vec![
-            // (outline, exact total degree = 2 order - d) with d = 1 (triangles, parallelograms),
-            // 2 (general convex quads and triangulated polygons: same as triangles, d = 1)
-            (vec![[0., 0.], [1.3, 0.2], [0.4, 0.9]], 1),
-            (vec![[0., 0.], [2., 0.], [2.5, 1.], [0.5, 1.]], 1),
-            (vec![[0., 0.], [2., 0.3], [1.7, 1.4], [-0.2, 0.8]], 2), // (order 1: degree 1, below)
-            (vec![[0., 0.], [2., 0.], [1., 0.4], [0.9, 2.]], 1),     // concave quad: triangulated
-            (vec![[0., 0.], [2., 0.], [2., 1.], [1., 1.], [1., 2.], [0., 2.]], 1), // L shape
-            (vec![[0., 0.], [1., -0.3], [1.8, 0.4], [1.2, 1.3], [0.1, 1.0]], 1),
-        ];
-        for (v2, defect) in &shapes {
-            let p = placed(v2, &mut rng);
-            for order in [1usize, 2, 3, 5, 8] {
-                let r = AreaRule::new(&p, order);
-                let wsum: f64 = r.weights.iter().sum();
-                assert!((wsum - p.area()).abs() <= 1e-13 * p.area(), "weights sum {wsum} vs area {}", p.area());
-                assert!(r.weights.iter().all(|&w| w > 0.0));
-                assert!(r
-                    .points
-                    .iter()
-                    .all(|x| ((*x - p.centroid()).dot(p.normal())).abs() < 1e-12 * (1.0 + x.length())));
-                let deg = if order == 1 { 1 } else { 2 * order as i32 - *defect as i32 };
-                for a in 0..=deg {
-                    for b in 0..=deg - a {
-                        let exact = green_moment(&p, a, b);
-                        let q = rule_moment(&p, &r, a, b);
-                        let scale = rule_moment(&p, &r, 0, 0) * (p.radius()).powi(a + b);
-                        assert!((q - exact).abs() <= 1e-12 * scale, "order {order} x^{a} y^{b}: {q} vs {exact}");
-                    }
-                }
-            }
-        }
-    }
+    use crate::quadrature::area_rules::tests::Rng;
 
     /// A random outline in the plane (triangles, convex and concave quads, convex 5-6-gons),
     /// including slivers; not normalised.
@@ -1242,7 +830,7 @@ pub(crate) mod tests {
     #[test]
     #[ignore]
     fn calibrate_regular_quads() {
-        use crate::moments::{moment_pair, Moments};
+        use crate::unobstructed::moments::{moment_pair, Moments};
         use rayon::prelude::*;
         let samples: usize = std::env::var("NUSSELT_CAL_SAMPLES").ok().and_then(|s| s.parse().ok()).unwrap_or(300);
         let mut rng = Rng(4048);
@@ -1371,13 +959,13 @@ pub(crate) mod tests {
                 }
                 let g = match FarPlan::new(tol).rule(sep, true) {
                     FarRule::Gauss(n) => aff(&a, &b, n),
-                    FarRule::Moment => crate::moments::moment_pair(
-                        &crate::moments::Moments::new(&a),
-                        &crate::moments::Moments::new(&b),
+                    FarRule::Moment => crate::unobstructed::moments::moment_pair(
+                        &crate::unobstructed::moments::Moments::new(&a),
+                        &crate::unobstructed::moments::Moments::new(&b),
                     ),
-                    FarRule::Moment4 => crate::moments::moment4_pair(
-                        &crate::moments::Moments::new(&a),
-                        &crate::moments::Moments::new(&b),
+                    FarRule::Moment4 => crate::unobstructed::moments::moment4_pair(
+                        &crate::unobstructed::moments::Moments::new(&a),
+                        &crate::unobstructed::moments::Moments::new(&b),
                     ),
                     FarRule::Exact => continue,
                 };
@@ -1421,8 +1009,11 @@ pub(crate) mod tests {
             let r = reference_aff(&a, &b, 20);
             for &tol in &[0.1, 0.03, 1e-2, 1e-3, 1e-4] {
                 if FarPlan::new(tol).rule(s, false) == FarRule::Moment {
-                    let (ma, mb) = (crate::moments::Moments::new(&a), crate::moments::Moments::new(&b));
-                    let e = (crate::moments::moment_pair(&ma, &mb) - r).abs() / r;
+                    let (ma, mb) = (
+                        crate::unobstructed::moments::Moments::new(&a),
+                        crate::unobstructed::moments::Moments::new(&b),
+                    );
+                    let e = (crate::unobstructed::moments::moment_pair(&ma, &mb) - r).abs() / r;
                     assert!(e <= tol, "s {s}, tol {tol:e}: moment rule error {e:.2e}");
                     checked += 1;
                 }

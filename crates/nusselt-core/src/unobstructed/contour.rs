@@ -20,10 +20,10 @@
 //!
 //! The sum is positive for polygons whose counter-clockwise outlines face each other.
 
-use crate::analytic::area_routes::{if_cancelling, ILL_CONDITIONED};
 use crate::error::{Error, Result};
 use crate::geometry::{bounding_diameter, clip_pair, segment_distance, Polygon, Vec3};
 use crate::quadrature::gauss_legendre;
+use crate::unobstructed::analytic::area_routes::{if_cancelling, ILL_CONDITIONED};
 use std::f64::consts::PI;
 
 /// Default Gauss-Legendre nodes per panel. The panel error is relative to the edge pairs'
@@ -515,7 +515,12 @@ mod tests {
         let (ca, ra) = pieces(t);
         let (cb, rb) = pieces(u);
         let g = |x: &Polygon, y: &Polygon| {
-            crate::quadrature::area_area(&AreaRule::new(x, order), x.normal(), &AreaRule::new(y, order), y.normal())
+            crate::unobstructed::far_field::area_area(
+                &AreaRule::new(x, order),
+                x.normal(),
+                &AreaRule::new(y, order),
+                y.normal(),
+            )
         };
         (g(&ca, &rb) + g(&ra, &cb) + g(&ra, &rb)) / (1.0 - sigma * sigma)
     }
@@ -590,7 +595,13 @@ mod tests {
 
     /// A random pair in general position (random convex polygons, random orientations, possibly
     /// straddling each other's planes) with its own tensor Gauss reference on the clipped parts.
-    fn random_convex(rng: &mut crate::quadrature::tests::Rng, k: usize, c: Vec3, n: Vec3, r: f64) -> Polygon {
+    fn random_convex(
+        rng: &mut crate::quadrature::area_rules::tests::Rng,
+        k: usize,
+        c: Vec3,
+        n: Vec3,
+        r: f64,
+    ) -> Polygon {
         let (t, s) = crate::geometry::tangent_frame(n);
         let mut ang: Vec<f64> = (0..k).map(|_| rng.range(0., 2. * PI)).collect();
         ang.sort_by(f64::total_cmp);
@@ -630,7 +641,7 @@ mod tests {
 
     #[test]
     fn random_pairs_match_area_quadrature() {
-        let mut rng = crate::quadrature::tests::Rng(99);
+        let mut rng = crate::quadrature::area_rules::tests::Rng(99);
         let mut done = 0;
         while done < 25 {
             let na = rng.dir();
@@ -660,7 +671,7 @@ mod tests {
         // Edge-pair terms cancel like (distance / size)^2: at 1e4 aligned unit squares were
         // off by 5e-6 before such sums went to the area route. Reference: a tensor Gauss rule
         // of the positive kernel, exact to ~1e-13 here (checked at two orders).
-        let mut rng = crate::quadrature::tests::Rng(5);
+        let mut rng = crate::quadrature::area_rules::tests::Rng(5);
         let mut worst: f64 = 0.0;
         for k in 0..24 {
             let dist = 10f64.powf(1.0 + 0.2 * k as f64);

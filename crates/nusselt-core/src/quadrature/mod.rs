@@ -1,0 +1,10 @@
+//! Quadrature rules: 1-D Gauss tables ([`gauss`]) and area rules on polygons ([`area_rules`]).
+//! The kernels that use them live with their methods (`unobstructed::far_field`,
+//! `obstructed::rules`, `hemisphere`).
+
+pub mod area_rules;
+pub mod gauss;
+
+pub(crate) use area_rules::triangle_rule;
+pub use area_rules::AreaRule;
+pub use gauss::{gauss_legendre, try_gauss_legendre, MAX_ORDER};

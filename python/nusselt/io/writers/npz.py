@@ -1,0 +1,142 @@
+"""The ``.npz`` output, the complete result, and reading it back (docs/formats/npz.md)."""
+
+from __future__ import annotations
+
+import json
+import os
+from collections.abc import Callable
+from typing import Any
+
+import numpy as np
+import scipy.sparse as sp
+
+from ..scenedata import check_readable, parse_error
+from ._common import _areas, _atomic, _csr, _names, _square, field
+
+NPZ_FORMAT = "nusselt-form-factors"
+NPZ_VERSION = 1
+
+
+def write_npz(path, matrix, areas, names, *, compress: bool = False, **extra_arrays) -> None:
+    """Store the form factors as a ``.npz`` (zip-deflated with ``compress=True``).
+
+    Keys: ``format``, ``version``, ``shape``, ``indptr``, ``indices``, ``data`` (the CSR
+    parts of F), ``areas``, ``names`` and every extra array under its own name. A sparse
+    extra (e.g. ``std_err``) is stored as ``<name>.indptr`` / ``.indices`` / ``.data`` /
+    ``.shape``; a dict or string extra as JSON text. Read it back with :func:`load_npz`.
+    Index arrays are stored as int32 when they fit (else int64) and values as float32 or
+    float64 as given, so the file is no larger than the matrix in memory.
+    """
+    path = os.fspath(path)
+    n = _square(matrix)
+    m = _csr(matrix)
+    m.sum_duplicates()
+    m.sort_indices()
+    arrays = {
+        "format": np.array(NPZ_FORMAT),
+        "version": np.array(NPZ_VERSION),
+        "shape": np.array(m.shape, dtype=np.int64),
+        "indptr": _index_array(m.indptr, m.nnz),
+        "indices": _index_array(m.indices, n),
+        "data": _value_array(m.data),
+        "areas": _areas(areas, n),
+        "names": np.array(_names(names, n), dtype=str),
+    }
+    for key, val in extra_arrays.items():
+        if key in arrays or "." in key:
+            raise ValueError(f"extra array name {key!r} is reserved or contains '.'")
+        if val is None:
+            continue
+        if sp.issparse(val):
+            e = sp.csr_array(val)
+            arrays[f"{key}.shape"] = np.array(e.shape, dtype=np.int64)
+            arrays[f"{key}.indptr"] = _index_array(e.indptr, e.nnz)
+            arrays[f"{key}.indices"] = _index_array(e.indices, max(e.shape))
+            arrays[f"{key}.data"] = _value_array(e.data)
+        elif isinstance(val, dict):
+            arrays[f"{key}.json"] = np.array(json.dumps(val, default=str))
+        else:
+            a = np.asarray(val)
+            if a.dtype == object:
+                a = np.array([str(x) for x in a.ravel()], dtype=str).reshape(a.shape)
+            arrays[key] = a
+    # Callable[..., None]: numpy's stubs reject ``**arrays`` as it could hold ``allow_pickle``.
+    save: Callable[..., None] = np.savez_compressed if compress else np.savez
+    with _atomic(path, "wb") as fh:
+        save(fh, **arrays)
+
+
+def _index_array(a: np.ndarray, largest: int) -> np.ndarray:
+    """int32 when every index (at most ``largest``) fits, else int64; no copy if already so."""
+    dtype = np.int32 if largest <= np.iinfo(np.int32).max else np.int64
+    return np.asarray(a, dtype=dtype)
+
+
+def _value_array(a: np.ndarray) -> np.ndarray:
+    return a if a.dtype in (np.float32, np.float64) else np.asarray(a, dtype=np.float64)
+
+
+def load_npz(path) -> dict:
+    """Load a result written by :func:`write_npz` (``nusselt matrix ... -o out.npz``).
+
+    >>> r = nusselt.io.load_npz("out.npz")
+    >>> F = r["matrix"]            # scipy.sparse.csr_array, F[i, j], row = source
+    >>> r["areas"], r["names"]     # ndarray, list of str
+
+    Extra arrays come back under their names (sparse ones as csr_array, JSON ones as dicts).
+    """
+    path = os.fspath(path)
+    check_readable(path)
+    try:
+        with np.load(path, allow_pickle=False) as z:
+            files = {k: z[k] for k in z.files}
+    except Exception as e:
+        raise parse_error(path, None, f"not a readable .npz file ({type(e).__name__}: {e})") from None
+    if "format" not in files or str(files["format"]) != NPZ_FORMAT:
+        raise parse_error(path, None, "not a nusselt form-factor file (no 'format' marker)")
+    try:
+        shape = tuple(int(x) for x in files.pop("shape"))
+        matrix = sp.csr_array((files.pop("data"), files.pop("indices"), files.pop("indptr")), shape=shape)
+    except Exception as e:
+        raise parse_error(path, None, f"damaged matrix ({type(e).__name__}: {e})") from None
+    out = {"matrix": matrix, "areas": files.pop("areas"), "names": [str(s) for s in files.pop("names")]}
+    files.pop("format")
+    out["version"] = int(files.pop("version"))
+    groups: dict[str, dict] = {}
+    for key, val in files.items():
+        if "." in key:
+            base, part = key.rsplit(".", 1)
+            groups.setdefault(base, {})[part] = val
+        else:
+            out[key] = val
+    for base, parts in groups.items():
+        if "json" in parts:
+            out[base] = json.loads(str(parts["json"]))
+        else:
+            out[base] = sp.csr_array(
+                (parts["data"], parts["indices"], parts["indptr"]), shape=tuple(int(x) for x in parts["shape"])
+            )
+    return out
+
+
+def write_result_npz(path: str, result, scene, *, compress: bool) -> None:
+    """A result as :func:`write_npz` stores it, with its row sums, faces, surfaces, errors,
+    method, info and the scene's source file (see :func:`nusselt.io.write_result`)."""
+    extra: dict[str, Any] = {}
+    matrix = field(result, "matrix")
+    extra["row_sums"] = np.asarray(matrix.sum(axis=1)).ravel()
+    for key in ("faces", "surface", "lost", "std_err"):
+        v = field(result, key)
+        if v is not None:
+            extra[key] = v
+    sn = field(result, "surface_names")
+    if sn is not None:
+        extra["surface_names"] = np.array([str(s) for s in sn], dtype=str)
+    if field(result, "method") is not None:
+        extra["method"] = np.array(str(field(result, "method")))
+    info = field(result, "info")
+    if info:
+        extra["info"] = dict(info)
+    if scene is not None and getattr(scene, "source", None):
+        extra["scene"] = np.array(str(scene.source))
+    write_npz(path, matrix, field(result, "areas"), field(result, "names"), compress=compress, **extra)

@@ -1,0 +1,144 @@
+"""Real allocation failures under an address-space limit (RLIMIT_AS) in a child process: a
+result block that cannot fit, and a file with an absurdly long line, end in a clear error and
+an ordinary exit, never in an abort (SIGABRT, exit 134) or a kill.
+
+POSIX only (``resource``); each child imports numpy, scipy and nusselt (about 0.6 GB of address
+space before any work), so the limits leave that much room.
+"""
+
+import os
+import subprocess
+import sys
+import textwrap
+
+import pytest
+
+resource = pytest.importorskip("resource")
+
+#: The child's address-space limit: room for the interpreter and libraries, not for the work.
+LIMIT = 1536 << 20
+
+
+def _run_limited(code: str, *args: str, timeout: float = 120) -> subprocess.CompletedProcess:
+    def limit():
+        resource.setrlimit(resource.RLIMIT_AS, (LIMIT, LIMIT))
+
+    return subprocess.run(
+        [sys.executable, "-c", textwrap.dedent(code), *args],
+        preexec_fn=limit,
+        capture_output=True,
+        text=True,
+        timeout=timeout,
+        env={**os.environ, "RAYON_NUM_THREADS": "2"},
+    )
+
+
+PLATES = """
+import sys
+import nusselt
+
+def plates(k):
+    # two parallel k x k plates facing each other: nothing blocks, 2 k^2 patches
+    out = []
+    for z, flip in ((0.0, False), (1.0, True)):
+        for i in range(k):
+            for j in range(k):
+                q = [(i / k, j / k, z), ((i + 1) / k, j / k, z), ((i + 1) / k, (j + 1) / k, z), (i / k, (j + 1) / k, z)]
+                out.append(q[::-1] if flip else q)
+    return out
+"""
+
+
+@pytest.mark.slow
+def test_a_block_that_cannot_fit_is_a_memory_error_not_an_abort():
+    # 28 800 patches in one block: room for 4.1e8 pairs (5 GB) in the unobstructed row
+    # kernel, under a 1.5 GiB limit: the core itself must refuse (vec! aborted the process)
+    code = (
+        PLATES
+        + """
+import numpy as np
+from nusselt.methods import resolve
+
+scene = nusselt.Scene.from_polygons(plates(120))
+assert scene._core.unobstructed()
+try:  # one block of every row, as the core receives it (form_factors grows blocks up to it)
+    scene._core.pair_rows(np.arange(len(scene), dtype=np.int64), "auto", resolve("auto", {})[1])
+except MemoryError as e:
+    print("refused:", e)
+    sys.exit(3)
+sys.exit(0)
+"""
+    )
+    r = _run_limited(code)
+    assert r.returncode == 3, (r.returncode, r.stderr[-2000:])
+    assert "cannot allocate a block's column indices: 414705600 entries" in r.stdout, r.stdout
+
+
+@pytest.mark.slow
+def test_the_cli_refuses_a_run_that_cannot_fit_before_any_work(tmp_path):
+    # the same scene through the CLI: the memory check sees the address-space limit and refuses
+    obj = tmp_path / "plates.obj"
+    code = (
+        PLATES
+        + """
+with open(sys.argv[1], "w") as fh:
+    for poly in plates(120):
+        for p in poly:
+            fh.write("v %r %r %r\\n" % p)
+    for k in range(2 * 120 * 120):
+        fh.write("f %d %d %d %d\\n" % (4 * k + 1, 4 * k + 2, 4 * k + 3, 4 * k + 4))
+"""
+    )
+    subprocess.run([sys.executable, "-c", code, str(obj)], check=True, timeout=120)
+    run = "import sys; from nusselt.cli import main; sys.exit(main(sys.argv[1:]))"
+    r = _run_limited(run, "matrix", str(obj), "-o", str(tmp_path / "F.npz"), "-q")
+    assert r.returncode == 2, (r.returncode, r.stderr[-2000:])
+    assert "nusselt: error:" in r.stderr and "memory" in r.stderr, r.stderr
+    assert not (tmp_path / "F.npz").exists()
+
+
+def test_an_absurdly_long_obj_line_is_refused_without_reading_it_whole(tmp_path):
+    # a 24 MB face line (the issue's reproducer, 100 MB, aborted under 4 GiB): refused when
+    # the reader has read 16 MiB of it, never held whole or split into Python objects
+    obj = tmp_path / "long.obj"
+    with open(obj, "wb") as fh:
+        fh.write(b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf")
+        chunk = b" 1 2 3" * (1 << 16)
+        for _ in range(24 * (1 << 20) // len(chunk)):
+            fh.write(chunk)
+        fh.write(b"\n")
+    code = """
+    import sys
+    import nusselt
+    try:
+        nusselt.Scene.from_file(sys.argv[1])
+    except ValueError as e:
+        print("refused:", e)
+        sys.exit(3)
+    """
+    r = _run_limited(code, str(obj))
+    assert r.returncode == 3, (r.returncode, r.stderr[-2000:])
+    assert "long.obj, line 4: longer than 16 MiB" in r.stdout, r.stdout
+
+
+def test_an_absurdly_long_idf_line_is_refused_under_the_limit(tmp_path):
+    # the IDF reader streams through the same line reader: a 24 MB field list on line 2
+    idf = tmp_path / "long.idf"
+    with open(idf, "wb") as fh:
+        fh.write(b"Version,9.4;\nZone,Z")
+        chunk = b",0" * (1 << 16)
+        for _ in range(24 * (1 << 20) // len(chunk)):
+            fh.write(chunk)
+        fh.write(b";\n")
+    code = """
+    import sys
+    import nusselt
+    try:
+        nusselt.Scene.from_file(sys.argv[1])
+    except ValueError as e:
+        print("refused:", e)
+        sys.exit(3)
+    """
+    r = _run_limited(code, str(idf))
+    assert r.returncode == 3, (r.returncode, r.stderr[-2000:])
+    assert "long.idf, line 2: longer than 16 MiB" in r.stdout, r.stdout
