@@ -14,9 +14,7 @@ from test_obstructed import room_with_crate
 import nusselt
 
 PAIR_TOL, ROW_TOL = 2e-3, 1e-2
-# quadrature's 0/1 visibility step limits a Gauss rule to O(1/order): at its default order
-# 12 it is off by up to 5.4e-3 on these pairs (docs/methods.md), so it is not held to 2e-3
-SAMPLED_PAIR_METHODS = ["montecarlo", "subdivision", "adaptive"]
+SAMPLED_PAIR_METHODS = ["quadrature", "montecarlo", "subdivision", "adaptive"]
 
 
 def room_scenes(n, m):

@@ -223,7 +223,7 @@ pub static METHODS: &[MethodSpec] = &[
               is first cut along the planes of blockers that pass through it (a partition or a fin standing on it), where \
               visibility steps",
         options: &[
-            int("order", 12, 1, 32, "Gauss order per direction on each polygon (a piece cut off a fraction f of it gets ceil(order sqrt f))"),
+            int("order", 24, 1, 32, "Gauss order per direction on each polygon (a piece cut off a fraction f of it gets ceil(order sqrt f))"),
             int(
                 "panels",
                 4,

@@ -77,7 +77,7 @@ impl Default for VisOptions {
         VisOptions {
             exact_tol: 1e-10,
             tol: 1e-7,
-            order: 12,
+            order: 24,
             panels: 4,
             samples: 8192,
             seed: 0,

@@ -32,9 +32,14 @@ pub(super) fn area_source_points(
         return source_points(a, k);
     }
     let pieces = split_at_kinks(a, b, blockers);
-    let upgrades = (MAX_SOURCE_POINTS.saturating_sub(pieces.len()) / 6).max(MIN_UPGRADED);
+    // largest first by area relative to the source, rounded so that equal pieces keep their
+    // order in any units (the sort is stable); slivers below 1e-6 of the source, whose count
+    // may change with the units' rounding, do not count against the cap
+    let rel = |t: &[Vec3; 3]| (area3(t) / a.area() * 1e9).round() as i64;
+    let counted = pieces.iter().filter(|t| rel(t) >= 1000).count();
+    let upgrades = (MAX_SOURCE_POINTS.saturating_sub(counted) / 6).max(MIN_UPGRADED);
     let mut order: Vec<usize> = (0..pieces.len()).collect();
-    order.sort_by(|&x, &y| area3(&pieces[y]).total_cmp(&area3(&pieces[x])));
+    order.sort_by_key(|&t| std::cmp::Reverse(rel(&pieces[t])));
     let (r7, centre) = (radon7(), [([1.0 / 3.0; 3], 1.0)]);
     order
         .iter()
