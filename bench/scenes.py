@@ -14,6 +14,8 @@ float64 arrays, counter-clockwise seen from their front side, as the rest of nus
 - :func:`blocker_plates`: two parallel unit plates 1 apart, each meshed, and a centred
   opaque square at mid-height (OpenViewFactor's "blocking" family); the plate-to-plate F is
   known to 1e-12 by an independent dblquad (:func:`blocker_plates_exact`).
+- :func:`room_with_crate`: a closed 3 m cube room, walls meshed n x n, with a unit crate
+  floating inside, faces meshed m x m (n, m = 6, 3: 270 patches). Closed.
 - :func:`urban`: ground plus a 4 x 4 grid of buildings, 144 k^2 patches (k = 4, 6, 12 give
   2 560, 5 760 and 23 040). Open.
 
@@ -273,6 +275,30 @@ def blocker_plates_exact() -> float:
     return dblquad(lambda y, x: blocker_plates_point(x, y), 0, 1, 0, 1, epsabs=1e-13, epsrel=1e-12)[0]
 
 
+def room_with_crate(n: int = 6, m: int = 3) -> Spec:
+    """The cube room [0, 3]^3 with walls of n x n quads facing in and the crate
+    [0.8, 1.8] x [0.7, 1.7] x [1.1, 2.1] floating inside, faces of m x m quads facing out:
+    6 (n^2 + m^2) patches (270 at the default). Every crate face sees the room and hides part
+    of the walls from each other. Surfaces: the six walls and the six crate faces."""
+    polys: list[np.ndarray] = []
+    surf: list[str] = []
+
+    def box(lo, size, k, inward, prefix):
+        lo = np.asarray(lo, float)
+        for axis in range(3):
+            u, v = (np.eye(3)[a] * size for a in range(3) if a != axis)
+            for side in (0, 1):
+                origin = lo + np.eye(3)[axis] * size * side
+                out = np.eye(3)[axis] * (1 if side else -1)
+                faces = rect_grid(origin, u, v, k, k, -out if inward else out)
+                polys.extend(faces)
+                surf.extend([f"{prefix}{'xyz'[axis]}{'+' if side else '-'}"] * len(faces))
+
+    box((0, 0, 0), 3.0, n, True, "wall ")
+    box((0.8, 0.7, 1.1), 1.0, m, False, "crate ")
+    return Spec("room with crate", polys, surf, closed=True, meta={"n": n, "m": m})
+
+
 def urban(k: int = 6) -> Spec:
     """Ground [0, 8]^2 meshed 4k x 4k, and 16 buildings 1 x 1 x 2 m at (2i + 0.5, 2j + 0.5), roofs meshed
     k x k and walls k x 2k: 144 k^2 patches (k = 4, 6, 12: 2 560, 5 760, 23 040). The ground
@@ -297,5 +323,14 @@ def urban(k: int = 6) -> Spec:
 
 
 if __name__ == "__main__":
-    for s in (building(), office(), blocked_cylinder(), blocker_plates((20, 20)), urban(4), urban(6), urban(12)):
+    for s in (
+        room_with_crate(),
+        building(),
+        office(),
+        blocked_cylinder(),
+        blocker_plates((20, 20)),
+        urban(4),
+        urban(6),
+        urban(12),
+    ):
         print(f"{s.name:18s} {len(s.polygons):6d} polygons {s.meta}")

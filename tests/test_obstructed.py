@@ -103,12 +103,17 @@ def test_physical_bounds_and_units(method):
         fmm = nusselt.view_factor(EMITTER * 1000, RECEIVER * 1000, obstacles=[o * 1000 for o in obs], method=method)
         # adaptive refines where sampled visibility changes: a sample ray that grazes a
         # blocker edge to rounding precision may flip with the units and move F by one leaf
-        assert fmm == pytest.approx(f, abs=1e-6 if method == "adaptive" else 1e-9)
+        # subdivision / adaptive: the kink split of their source may cut a piece differently in
+        # other units, and their bounded source rule (centroids on most pieces) turns that
+        # into a change within the method's own error (up to 1.8e-4 here)
+        assert fmm == pytest.approx(f, abs=5e-4 if method in ("adaptive", "subdivision") else 1e-9)
 
 
-def room_with_crate(n=3):
+def room_with_crate(n=3, m=1):
+    """The 3 m cube room (walls n x n quads facing in) with a unit crate floating inside (faces
+    m x m quads facing out); n, m = 6, 3 is the 270-patch room of bench/methods.py."""
     polys, face = cube_faces(n, size=3.0)
-    crate, cface = cube_faces(1, size=1.0)
+    crate, cface = cube_faces(m, size=1.0)
     # the crate's faces point outward: reverse the inward cube's orientation, move it inside
     crate = [c[::-1] + np.array([0.8, 0.7, 1.1]) for c in crate]  # floating: every face sees the room
     return polys + crate, list(face) + [6 + k for k in cface]
@@ -213,7 +218,8 @@ def test_partition_between_plates(x, reach):
     wall = np.array([[x, -0.5, z0], [x, 1.5, z0], [x, 1.5, z1], [x, -0.5, z1]])
     for method in EXACT_METHODS + AREA_METHODS:
         f = nusselt.view_factor(EMITTER, RECEIVER, obstacles=[wall], method=method)
-        tol = {"quadrature": 1e-5, "subdivision": 1e-5, "montecarlo": 5e-4}.get(
+        # subdivision: its source rule is bounded (at most 64 points beyond one per kink piece)
+        tol = {"quadrature": 1e-5, "subdivision": 1e-3, "montecarlo": 5e-4}.get(
             method, 1e-6 if method in EXACT_METHODS else 2e-3
         )
         assert f == pytest.approx(exact, abs=tol), method

@@ -167,7 +167,8 @@ const SOURCE_ROW: OptionSpec = source(
 const SOURCE_AREA: OptionSpec = source(
     "auto",
     &["auto", "centre", "center"],
-    "source points on A_i: 'auto' (the source cut along the lines where the visible F has a kink, 7 points per piece), \
+    "source points on A_i: 'auto' (the source cut along the lines where the visible F has a kink, a centroid per \
+     piece and Radon's 7 points on the largest, at most 64 points beyond one per piece), \
      'centre', or k for a k x k Gauss rule \
      (always a normalised weighted sum)",
 );
@@ -241,7 +242,7 @@ pub static METHODS: &[MethodSpec] = &[
         obstructed: true,
         doc: "area-to-area quasi-Monte Carlo with Owen-scrambled Sobol points, stratified over the pieces of both polygons \
               cut along the planes of blockers through them; standard error from 8 independent scramblings",
-        options: &[int("samples", 16384, 8, 1 << 24, "point pairs per form factor"), SEED, CONTROL_VARIATE, BUDGET],
+        options: &[int("samples", 8192, 8, 1 << 24, "point pairs per form factor"), SEED, CONTROL_VARIATE, BUDGET],
     },
     MethodSpec {
         name: "subdivision",
@@ -249,7 +250,7 @@ pub static METHODS: &[MethodSpec] = &[
         obstructed: true,
         doc: "dA -> A_j by uniform subdivision of the receiver (exact Lambert per piece times the piece's visibility; the \
               receiver is first cut along the planes of blockers through it), summed over source points",
-        options: &[int("divisions", 48, 1, 256, "each receiver triangle is split into divisions^2"), SOURCE_AREA, BUDGET],
+        options: &[int("divisions", 10, 1, 256, "each receiver triangle is split into divisions^2"), SOURCE_AREA, BUDGET],
     },
     MethodSpec {
         name: "adaptive",
@@ -257,7 +258,7 @@ pub static METHODS: &[MethodSpec] = &[
         obstructed: true,
         doc: "dA -> A_j by adaptive subdivision of the receiver where visibility changes, summed over source points",
         options: &[
-            float("tol", 1e-5, 1e-14, 0.1, "pieces contributing less than this to F are not refined"),
+            float("tol", 1e-4, 1e-14, 0.1, "pieces contributing less than this to F are not refined"),
             int("max_depth", 8, 1, 16, "deepest refinement level"),
             SOURCE_AREA,
             BUDGET,

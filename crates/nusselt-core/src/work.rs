@@ -22,9 +22,9 @@ use std::sync::atomic::{AtomicBool, Ordering};
 /// Set to stop every running computation of the process (Ctrl-C).
 pub static CANCEL: AtomicBool = AtomicBool::new(false);
 
-/// Default budget per pair or row: 2^30 units (about 10-60 s of one core on the
-/// benchmark scenes; every method at its default options stays far below it).
-pub const DEFAULT_BUDGET: u64 = 1 << 30;
+/// Default budget per pair or row: 2^27 units (about 25-150 s of one core: 0.9e6-5.7e6 units/s measured by
+/// `bench/methods.py budget`, docs/guide.md; every method at its default options stays far below it).
+pub const DEFAULT_BUDGET: u64 = 1 << 27;
 
 thread_local! {
     /// (units spent, budget) of the pair or row being computed on this thread.

@@ -29,7 +29,7 @@ use crate::visibility::shadow::{
 use crate::visibility::{Occluders, Visibility};
 use clipping::{adaptive_over_source, clearance, ShadowTest};
 use kinks::split_at_kinks;
-use rules::{radon7, rule_points, source_points};
+use rules::{area_source_points, source_points};
 use sampled::{cut_at_blocker_planes, kernel, mean_and_error, montecarlo, quadrature, stratum_samples, stratum_seed};
 use subdivision::{adaptive_point, subdivide_at_blockers, uniform_point};
 
@@ -138,13 +138,7 @@ pub fn pair_with(ctx: &Context, i: usize, j: usize, m: VisMethod, o: &VisOptions
             let pieces =
                 if m == VisMethod::Subdivision { Some(subdivide_at_blockers(b, &blockers, o.divisions)) } else { None };
             let mut g = 0.0;
-            let points = match o.source_points {
-                Some(k) => source_points(sa, k),
-                None => {
-                    let r7 = radon7();
-                    split_at_kinks(sa, b, &blockers).iter().flat_map(|t| rule_points(&r7, t)).collect()
-                }
-            };
+            let points = area_source_points(sa, b, &blockers, o.source_points);
             for (x, w) in points {
                 // [methods] stop at cancellation or when the pair's work budget is spent
                 if !crate::work::go_on() {

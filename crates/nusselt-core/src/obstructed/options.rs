@@ -39,7 +39,8 @@ pub struct VisOptions {
     /// `subdivision`: each receiver triangle is split into divisions^2 pieces.
     pub divisions: usize,
     /// `subdivision` / `adaptive`: source points. None (default): the source is cut along
-    /// its kink lines (see [`split_at_kinks`]) and each piece gets Radon's 7-point rule;
+    /// its kink lines (see [`split_at_kinks`]), each piece gets its centroid and the largest
+    /// Radon's 7-point rule, at most 64 points beyond one per piece (`rules::area_source_points`);
     /// Some(0) is the centroid alone, Some(k) a k x k Gauss rule per source triangle or quad
     /// (always a normalised weighted sum).
     pub source_points: Option<usize>,
@@ -63,9 +64,9 @@ impl Default for VisOptions {
             tol: 1e-7,
             order: 24,
             panels: 4,
-            samples: 16384,
+            samples: 8192,
             seed: 0,
-            divisions: 48,
+            divisions: 10,
             source_points: None,
             clip_source: None,
             control_variate: true,

@@ -1,7 +1,55 @@
 //! Triangle rules and source point sets shared by the point-evaluation methods.
 
+use super::kinks::split_at_kinks;
 use crate::geometry::{Polygon, Vec3};
 use crate::quadrature::AreaRule;
+
+/// Most points of the kink-split source rule (`source='auto'` of `subdivision` and
+/// `adaptive`) beyond one per piece: each point costs one whole receiver evaluation, so the
+/// rule's cost is bounded here, whatever the number of blockers (docs/algorithms.md §6.1).
+pub(super) const MAX_SOURCE_POINTS: usize = 64;
+
+/// Pieces that get Radon's rule even when the pieces alone exceed [`MAX_SOURCE_POINTS`]: the
+/// largest pieces of a split that hit its cap carry most of the error of a centroid rule
+/// (wall to wall past a crate: 1.8e-3 with centroids only, 1.2e-3 with these; bench/methods.py).
+const MIN_UPGRADED: usize = 8;
+
+/// Source points of `subdivision` and `adaptive` on `a` (the part of the source in front of
+/// the receiver `b`), weights summing to its area. `Some(k)`: [`source_points`]. `None`
+/// ('auto'): `a` cut along the kink lines of the visible F ([`split_at_kinks`]), so that each
+/// piece's integrand is smooth; every piece gets its centroid, and the largest pieces
+/// Radon's 7-point rule instead while the count stays within [`MAX_SOURCE_POINTS`] (at least
+/// [`MIN_UPGRADED`] of them): a small piece's error is small whatever its rule. The count is
+/// at most max(64, pieces + 48), pieces <= 4 x 64 triangles. Before the cap, every piece got
+/// Radon's rule: up to 448 points, 6.9 s for one obstructed pair at 48 divisions.
+pub(super) fn area_source_points(
+    a: &Polygon,
+    b: &Polygon,
+    blockers: &[&Polygon],
+    k: Option<usize>,
+) -> Vec<(Vec3, f64)> {
+    if let Some(k) = k {
+        return source_points(a, k);
+    }
+    let pieces = split_at_kinks(a, b, blockers);
+    // largest first by area relative to the source, rounded so that equal pieces keep their
+    // order in any units (the sort is stable); slivers below 1e-6 of the source, whose count
+    // may change with the units' rounding, do not count against the cap
+    let rel = |t: &[Vec3; 3]| (area3(t) / a.area() * 1e9).round() as i64;
+    let counted = pieces.iter().filter(|t| rel(t) >= 1000).count();
+    let upgrades = (MAX_SOURCE_POINTS.saturating_sub(counted) / 6).max(MIN_UPGRADED);
+    let mut order: Vec<usize> = (0..pieces.len()).collect();
+    order.sort_by_key(|&t| std::cmp::Reverse(rel(&pieces[t])));
+    let (r7, centre) = (radon7(), [([1.0 / 3.0; 3], 1.0)]);
+    order
+        .iter()
+        .enumerate()
+        .flat_map(|(rank, &t)| {
+            let rule: &[([f64; 3], f64)] = if rank < upgrades { &r7 } else { &centre };
+            rule_points(rule, &pieces[t]).collect::<Vec<_>>()
+        })
+        .collect()
+}
 
 /// Source points and weights (summing to the polygon's area): the centroid alone, or a
 /// k x k Gauss rule.

@@ -1,0 +1,438 @@
+"""Every listed method at its defaults on three scenes, the accuracy-versus-cost curves behind
+the defaults of the sampled pair methods, and the calibration of the work budget.
+
+    python bench/methods.py scenes          # docs/methods.md's table and docs/methods.png
+    python bench/methods.py curves          # error vs CPU over option values (docs/methods.md)
+    python bench/methods.py budget          # work units per CPU second (docs/guide.md)
+    python bench/methods.py scenes --scenes room --methods subdivision adaptive
+
+`scenes`: each method at its defaults on the 270-patch closed room with a floating crate
+(:func:`scenes.room_with_crate`), the furnished office (:func:`scenes.office`, 2 322 patches)
+and the urban grid (:func:`scenes.urban` k=4, 2 560 patches), against `auto` with
+`obstructed_tol=1e-7` (the room) or its defaults (office, urban; their real error on
+obstructed pairs is about 1e-8, far below what is measured here). CPU is user + sys of this
+process over the call (all threads; run with RAYON_NUM_THREADS=2, the default here), wall the
+elapsed time. Errors: "surface" is the largest |F - F_ref| of the matrices aggregated to named
+surfaces (area-weighted, `FormFactors.by_surface`), "patch" the largest over patch pairs. A
+method whose projected cost on a big scene exceeds `--cap` CPU seconds is run on a sample of
+rows only: the table gives the projected CPU (sample CPU x total / sampled pairs or rows) and
+the patch error on those rows. `analytic` and `contour` assume nothing is in between: on the
+scenes with obstacles they refuse (a ValueError naming a blocked pair), and are measured on
+the room without its crate instead.
+
+`curves`: the sampled pair methods (`quadrature`, `montecarlo`, `subdivision`, `adaptive`) over
+their option values on a suite of obstructed pairs (:func:`obstructed_pairs`: big plates with
+blockers of every kind, a partition, a fin, large room walls past a crate, triangles, pairs of
+the 270-patch room) against `clipping` at tol 1e-10, and on the whole 270-patch room: the
+largest absolute F error over the suite, its CPU, the room's CPU and its surface and patch
+errors.
+
+`budget`: work units per CPU second of each method (one unit: a ray test, a hemicube or
+single-plane cell, a disk cell, a traced ray), from the smallest budget a pair or row passes.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import os
+import pathlib
+import sys
+import time
+
+os.environ.setdefault("RAYON_NUM_THREADS", "2")
+
+import numpy as np  # noqa: E402
+
+sys.path.insert(0, os.path.dirname(__file__))
+import scenes  # noqa: E402
+
+import nusselt  # noqa: E402
+
+DOCS = pathlib.Path(__file__).resolve().parents[1] / "docs"
+PAIR_METHODS = ["quadrature", "montecarlo", "subdivision", "adaptive"]
+
+
+# --------------------------------------------------------------------------- measuring
+
+
+def cpu_wall(fn):
+    """(result, CPU seconds of the whole process, wall seconds) of fn()."""
+    c0, t0 = time.process_time(), time.perf_counter()
+    r = fn()
+    return r, time.process_time() - c0, time.perf_counter() - t0
+
+
+def repeated_cpu(fn, min_total=0.05, max_reps=50):
+    """(result, mean CPU seconds per call) over repeats while the total stays below min_total."""
+    total, reps = 0.0, 0
+    while True:
+        r, c, _ = cpu_wall(fn)
+        total, reps = total + c, reps + 1
+        if total >= min_total or reps >= max_reps:
+            return r, total / reps
+
+
+# --------------------------------------------------------------------------- obstructed pairs
+
+
+def rect(x0, x1, y0, y1, z=0.0, flip=False):
+    v = np.array([[x0, y0, z], [x1, y0, z], [x1, y1, z], [x0, y1, z]], float)
+    return v[::-1].copy() if flip else v
+
+
+def rotz(p, deg, about=(0.5, 0.5)):
+    a = np.radians(deg)
+    c, s = np.cos(a), np.sin(a)
+    q = np.asarray(p, float).copy()
+    x, y = q[:, 0] - about[0], q[:, 1] - about[1]
+    q[:, 0], q[:, 1] = about[0] + c * x - s * y, about[1] + s * x + c * y
+    return q
+
+
+def obstructed_pairs(quick: bool = False) -> list[tuple[str, np.ndarray, np.ndarray, list[np.ndarray]]]:
+    """Obstructed pairs (name, source, receiver, obstacles) on which the sampled methods must
+    meet 2e-3 absolute: F from 0.006 to 0.2, blockers in the middle, near either polygon,
+    touching both, many small ones, at angles to every edge; large patches of a room."""
+    lo, hi = rect(0, 1, 0, 1), rect(0, 1, 0, 1, z=1, flip=True)
+    out = [
+        ("plates, centred blocker", lo, hi, [rect(0.25, 0.75, 0.25, 0.75, z=0.5)]),
+        ("plates, turned blocker", lo, hi, [rotz(rect(0.1, 0.6, 0.3, 0.9, z=0.3), 20)]),
+        ("plates, blocker near receiver", lo, hi, [rect(0.2, 0.7, 0.15, 0.65, z=0.9)]),
+        ("plates, blocker near source", lo, hi, [rotz(rect(0.3, 0.8, 0.2, 0.7, z=0.08), 35)]),
+        (
+            "plates, 4 x 4 small blockers",
+            lo,
+            hi,
+            [
+                rect(0.1 + 0.22 * a, 0.2 + 0.22 * a, 0.1 + 0.22 * b, 0.2 + 0.22 * b, z=0.5)
+                for a in range(4)
+                for b in range(4)
+            ],
+        ),
+        # a partition standing between the plates, touching both
+        ("plates, partition", lo, hi, [np.array([[0.4, 0.2, 0], [0.4, 0.8, 0], [0.4, 0.8, 1], [0.4, 0.2, 1]], float)]),
+    ]
+    # perpendicular plates sharing an edge, a fin standing on the floor between them
+    floor = rect(0, 1, 0, 1)
+    wall = np.array([[0, 0, 0], [0, 1, 0], [0, 1, 1], [0, 0, 1]], float)  # x = 0, facing +x
+    fin = np.array([[0.2, 0.5, 0], [0.6, 0.5, 0], [0.6, 0.5, 0.4], [0.2, 0.5, 0.4]], float)
+    out.append(("floor to wall, fin", floor, wall, [fin]))
+    out.append(("floor to wall, post", floor, wall, [rotz(rect(0.15, 0.35, 0.3, 0.6, z=0.3), 10)]))
+    # triangles in general position
+    tri_a = np.array([[0, 0, 0], [1.2, 0.1, 0], [0.3, 0.9, 0]], float)
+    tri_b = np.array([[0.1, 0.2, 1.0], [0.4, 1.1, 0.8], [1.0, 0.0, 0.9]], float)
+    tri_k = np.array([[0.2, 0.2, 0.45], [0.7, 0.3, 0.5], [0.4, 0.7, 0.55]], float)
+    if np.cross(tri_b[1] - tri_b[0], tri_b[2] - tri_b[0])[2] > 0:
+        tri_b = tri_b[::-1].copy()
+    out.append(("triangles, triangle between", tri_a, tri_b, [tri_k]))
+    # the room of scenes.room_with_crate with one patch per wall and crate face: large patches
+    big = scenes.room_with_crate(1, 1)
+    p = big.polygons
+    out.append(("room 1 x 1: floor to ceiling", p[4], p[5], [q for k, q in enumerate(p) if k not in (4, 5)]))
+    out.append(("room 1 x 1: wall to wall", p[0], p[1], [q for k, q in enumerate(p) if k not in (0, 1)]))
+    out.append(("room 1 x 1: wall to floor", p[2], p[4], [q for k, q in enumerate(p) if k not in (2, 4)]))
+    if not quick:
+        for i, j in room_pairs():
+            p = scenes.room_with_crate().polygons
+            out.append((f"room 6 x 6: {i} to {j}", p[i], p[j], [q for k, q in enumerate(p) if k not in (i, j)]))
+    return out
+
+
+def room_pairs(count=6, seed=1):
+    """`count` pairs of the 270-patch room that the crate hides a quarter to three quarters
+    of (the largest unobstructed F among 3000 random pairs)."""
+    p = scenes.room_with_crate().polygons
+    rng = np.random.default_rng(seed)
+    found = []
+    for _ in range(3000):
+        i, j = (int(x) for x in rng.choice(len(p), 2, replace=False))
+        free = nusselt.view_factor(p[i], p[j])
+        if free > 1e-3:
+            obs = [q for k, q in enumerate(p) if k not in (i, j)]
+            f = nusselt.view_factor(p[i], p[j], obstacles=obs, obstructed_tol=1e-3)
+            if 0.25 * free < f < 0.75 * free:
+                found.append((free, i, j))
+        if len(found) >= 4 * count:
+            break
+    return [(i, j) for _, i, j in sorted(found, reverse=True)[:count]]
+
+
+def pair_references(pairs):
+    """`clipping` at tol 1e-10 for each pair (the plates' is checked against dblquad)."""
+    ref = []
+    for _name, a, b, obs in pairs:
+        f = nusselt.view_factor(a, b, obstacles=obs, method="clipping", tol=1e-10)
+        free = nusselt.view_factor(a, b)
+        ref.append((f, free))
+    exact = scenes.blocker_plates_exact()
+    assert abs(ref[0][0] - exact) < 1e-9, (ref[0][0], exact)
+    return ref
+
+
+CURVES = {
+    "quadrature": [{"order": k} for k in (2, 3, 4, 6, 8, 12, 16, 24)],
+    "montecarlo": [{"samples": n} for n in (64, 256, 1024, 4096, 16384)],
+    "subdivision": [
+        {"divisions": d, "source": s} for s in ("centre", 2, 3, 4, "auto") for d in (4, 8, 16, 32, 48) if s != "auto"
+    ]
+    + [{"divisions": d, "source": "auto"} for d in (4, 8, 16, 48)],
+    "adaptive": [
+        {"tol": t, "source": s} for s in ("centre", 2, 3, 4, "auto") for t in (1e-3, 1e-4, 1e-5) if s != "auto"
+    ]
+    + [{"tol": t, "source": "auto"} for t in (1e-3, 1e-4)],
+}
+
+
+def curves(args):
+    pairs = obstructed_pairs(args.quick)
+    ref = pair_references(pairs)
+    print(f"{len(pairs)} obstructed pairs; F from {min(r[0] for r in ref):.3g} to {max(r[0] for r in ref):.3g}")
+    for name, (f, free) in zip((p[0] for p in pairs), ref):
+        print(f"  {name:34s} F {f:.6f}  unobstructed {free:.6f}")
+    room = scenes.room_with_crate()
+    room_scene = room.scene()
+    room_ref = reference(room_scene, "room")
+    rows = []
+    settings = args.settings or [(m, o) for m in args.methods for o in CURVES.get(m, [{}])]
+    for method, opts in settings:
+        errs, cpu = [], 0.0
+        for (name, a, b, obs), (f, _) in zip(pairs, ref):
+            try:
+                v, c = repeated_cpu(lambda: nusselt.view_factor(a, b, obstacles=obs, method=method, **opts))
+            except ValueError as e:  # over the work budget
+                print(f"  {name}: {e}", flush=True)
+                v, c = math.nan, math.nan
+            errs.append(abs(v - f))
+            cpu += c
+        worst = int(np.nanargmax(errs))
+        line = {
+            "method": method,
+            "opts": opts,
+            "pair_err": float(np.nanmax(errs)),
+            "worst": pairs[worst][0],
+            "pair_cpu": cpu,
+        }
+        if not args.no_room:
+            res, c, w = cpu_wall(lambda: nusselt.form_factors(room_scene, method=method, **opts))
+            line.update(room_cpu=c, room_wall=w, **errors(res, room_ref))
+        rows.append(line)
+        print(json.dumps(line), flush=True)
+    if args.json:
+        pathlib.Path(args.json).write_text(json.dumps(rows, indent=1))
+
+
+# --------------------------------------------------------------------------- scenes
+
+
+def scene_specs(names):
+    out = {}
+    for n in names:
+        if n == "room":
+            out[n] = scenes.room_with_crate()
+        elif n == "office":
+            out[n] = scenes.office()
+        elif n == "urban":
+            out[n] = scenes.urban(k=4)
+    return out
+
+
+_REFS: dict[str, object] = {}
+
+
+def reference(scene, key):
+    """The tight `auto` result of a scene (cached per run)."""
+    if key not in _REFS:
+        opts = {"obstructed_tol": 1e-7} if key == "room" else {"obstructed_tol": 1e-5}
+        res, c, w = cpu_wall(lambda: nusselt.form_factors(scene, method="auto", **opts))
+        print(f"reference {key}: auto {opts or 'defaults'}: CPU {c:.1f} s, wall {w:.1f} s", flush=True)
+        _REFS[key] = res
+    return _REFS[key]
+
+
+def errors(res, ref):
+    d = np.abs(res.by_surface().dense() - ref.by_surface().dense())
+    return {"surface_err": float(d.max()), "patch_err": float(np.abs(res.dense() - ref.dense()).max())}
+
+
+ALL_METHODS = list(nusselt.METHODS)
+
+
+def sampled_rows(scene, method, rows, opts=None):
+    """(dense F on `rows` x columns, CPU s) from the core's row-block calls: pair methods give
+    G_ij for j > i (divided by A_i here), row methods whole rows."""
+    core, n = scene._core, len(scene)
+    m, o = nusselt.methods.resolve(method, opts or {})
+    rows = np.asarray(rows, dtype=np.int64)
+    out = np.zeros((len(rows), n))
+    if m.kind == "pairs":
+        (indptr, indices, data, _), c, _ = cpu_wall(lambda: core.pair_rows(rows, method, o))
+        for r, i in enumerate(rows):
+            sl = slice(indptr[r], indptr[r + 1])
+            out[r, indices[sl]] = data[sl] / scene.areas[i]
+        mask = np.arange(n)[None, :] > rows[:, None]
+    else:
+        (indptr, indices, data, _, _), c, _ = cpu_wall(lambda: core.full_rows(rows, method, o))
+        for r in range(len(rows)):
+            sl = slice(indptr[r], indptr[r + 1])
+            out[r, indices[sl]] = data[sl]
+        mask = np.ones((len(rows), n), bool)
+    return out, mask, c
+
+
+def scenes_table(args):
+    specs = scene_specs(args.scenes)
+    rows_out = []
+    for key, spec in specs.items():
+        scene = spec.scene()
+        n = len(scene)
+        print(f"== {key}: {n} patches", flush=True)
+        if key == "room":
+            ref = reference(scene, key)
+            empty = scenes.room_with_crate()
+            k = [i for i, name in enumerate(empty.surface) if name.startswith("wall")]
+            empty_scene = nusselt.Scene.from_polygons(
+                [empty.polygons[i] for i in k], surface=[empty.surface[i] for i in k]
+            )
+            empty_ref = nusselt.form_factors(empty_scene, method="auto")
+            for method in args.methods:
+                sc, rf, note = scene, ref, ""
+                if not nusselt.METHODS[method].obstructed:
+                    try:
+                        nusselt.form_factors(scene, method=method)
+                    except ValueError as e:
+                        note = f"refuses the crate ({str(e).split(':')[0]}); room without it"
+                    sc, rf = empty_scene, empty_ref
+                res, c, w = cpu_wall(lambda: nusselt.form_factors(sc, method=method))
+                line = {"scene": key, "patches": len(sc), "method": method, "cpu": c, "wall": w, **errors(res, rf)}
+                line["note"] = note
+                rows_out.append(line)
+                print(json.dumps(line), flush=True)
+        else:
+            ref = reference(scene, key)
+            rng = np.random.default_rng(0)
+            rows = np.sort(rng.choice(n, args.rows, replace=False))
+            dense_ref = ref.dense()
+            pairs_total = n * (n - 1) / 2
+            pairs_sampled = float(sum(n - 1 - i for i in rows))
+            for method in args.methods:
+                if not nusselt.METHODS[method].obstructed:
+                    continue
+                if method in PAIR_METHODS:
+                    # sampled pair methods: the upper triangle of a sample of rows, cost projected
+                    f, msk, c = sampled_rows(scene, method, rows)
+                    err = float(np.abs(np.where(msk, f - dense_ref[rows], 0.0)).max())
+                    line = {
+                        "scene": key,
+                        "patches": n,
+                        "method": method,
+                        "cpu": c * pairs_total / pairs_sampled,
+                        "sample_cpu": c,
+                        "patch_err": err,
+                        "note": f"projected from {len(rows)} rows",
+                    }
+                else:
+                    res, c, w = cpu_wall(lambda: nusselt.form_factors(scene, method=method))
+                    line = {
+                        "scene": key,
+                        "patches": n,
+                        "method": method,
+                        "cpu": c,
+                        "wall": w,
+                        **errors(res, ref),
+                        "note": "",
+                    }
+                rows_out.append(line)
+                print(json.dumps(line), flush=True)
+    if args.json:
+        pathlib.Path(args.json).write_text(json.dumps(rows_out, indent=1))
+    return rows_out
+
+
+def budget(args):
+    """Work units per CPU second: the smallest budget a pair passes (bisection to 2 %), over
+    the CPU of the unbudgeted call (plates with a turned blocker)."""
+    a, b = rect(0, 1, 0, 1), rect(0, 1, 0, 1, z=1, flip=True)
+    obs = [rotz(rect(0.1, 0.6, 0.3, 0.9, z=0.3), 20)]
+
+    def passes(m, o, units):
+        try:
+            nusselt.view_factor(a, b, obstacles=obs, method=m, budget=units, **o)
+            return True
+        except ValueError as e:
+            assert "budget" in str(e), e
+            return False
+
+    settings = [("subdivision", {}), ("adaptive", {}), ("montecarlo", {}), ("quadrature", {}), ("clipping", {})]
+    settings.append(("subdivision", {"divisions": 64, "source": 16}))
+    for m, o in settings:
+        lo, hi = 1, 1 << 40
+        while hi - lo > max(1, lo // 50):
+            mid = (lo + hi) // 2
+            lo, hi = (lo, mid) if passes(m, o, mid) else (mid, hi)
+        _, c = repeated_cpu(lambda: nusselt.view_factor(a, b, obstacles=obs, method=m, **o), min_total=0.3)
+        print(f"{m:12s} {str(o):34s} units {hi:>11d}  CPU {c * 1e3:9.2f} ms  units/s {hi / c:.2e}", flush=True)
+
+
+def plot(rows, path):
+    """Surface error vs CPU (log-log), one marker per method and scene (matplotlib)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(7.5, 5))
+    for key, marker in (("room", "o"), ("office", "s"), ("urban", "^")):
+        pts = [r for r in rows if r["scene"] == key and r.get("surface_err") is not None]
+        for r in pts:
+            err = max(r["surface_err"], 1e-16)
+            ax.scatter(
+                r["cpu"],
+                err,
+                marker=marker,
+                color="C0" if r["method"] in PAIR_METHODS + ["auto", "clipping", "analytic", "contour"] else "C3",
+            )
+            ax.annotate(r["method"], (r["cpu"], err), fontsize=7, xytext=(3, 3), textcoords="offset points")
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel("CPU seconds (user + sys, RAYON_NUM_THREADS=2)")
+    ax.set_ylabel("max surface-level |F - F_auto|")
+    ax.set_title("Every method at its defaults: 270-patch room with a crate (blue: pair, red: row methods)")
+    ax.title.set_fontsize(9)
+    ax.grid(True, which="both", alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    sub = ap.add_subparsers(dest="what", required=True)
+    c = sub.add_parser("curves")
+    c.add_argument("--methods", nargs="+", default=PAIR_METHODS)
+    c.add_argument("--quick", action="store_true")
+    c.add_argument("--no-room", action="store_true")
+    c.add_argument("--json")
+    t = sub.add_parser("scenes")
+    t.add_argument("--scenes", nargs="+", default=["room", "office", "urban"])
+    t.add_argument("--methods", nargs="+", default=ALL_METHODS)
+    t.add_argument("--rows", type=int, default=12, help="rows sampled on the big scenes")
+    t.add_argument("--json")
+    t.add_argument("--plot", help="write the accuracy-vs-CPU plot (PNG) here")
+    c.add_argument(
+        "--setting", action="append", default=[], help="METHOD:JSON options, e.g. 'quadrature:{\"order\": 8}'"
+    )
+    args = ap.parse_args()
+    if args.what == "curves":
+        args.settings = [(s.split(":", 1)[0], json.loads(s.split(":", 1)[1])) for s in args.setting] or None
+        curves(args)
+    elif args.what == "scenes":
+        rows = scenes_table(args)
+        if args.plot:
+            plot(rows, args.plot)
+    else:
+        budget(args)
+
+
+if __name__ == "__main__":
+    main()
