@@ -242,7 +242,7 @@ pub static METHODS: &[MethodSpec] = &[
         obstructed: true,
         doc: "area-to-area quasi-Monte Carlo with Owen-scrambled Sobol points, stratified over the pieces of both polygons \
               cut along the planes of blockers through them; standard error from 8 independent scramblings",
-        options: &[int("samples", 8192, 8, 1 << 24, "point pairs per form factor"), SEED, CONTROL_VARIATE, BUDGET],
+        options: &[int("samples", 16384, 8, 1 << 24, "point pairs per form factor"), SEED, CONTROL_VARIATE, BUDGET],
     },
     MethodSpec {
         name: "subdivision",
