@@ -97,39 +97,26 @@ with open(sys.argv[1], "w") as fh:
     assert not (tmp_path / "F.npz").exists()
 
 
-def test_an_absurdly_long_obj_line_is_refused_without_reading_it_whole(tmp_path):
-    # a 24 MB face line (the issue's reproducer, 100 MB, aborted under 4 GiB): refused when
-    # the reader has read 16 MiB of it, never held whole or split into Python objects
-    obj = tmp_path / "long.obj"
-    with open(obj, "wb") as fh:
-        fh.write(b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf")
-        chunk = b" 1 2 3" * (1 << 16)
-        for _ in range(24 * (1 << 20) // len(chunk)):
-            fh.write(chunk)
-        fh.write(b"\n")
-    code = """
-    import sys
-    import nusselt
-    try:
-        nusselt.Scene.from_file(sys.argv[1])
-    except ValueError as e:
-        print("refused:", e)
-        sys.exit(3)
-    """
-    r = _run_limited(code, str(obj))
-    assert r.returncode == 3, (r.returncode, r.stderr[-2000:])
-    assert "long.obj, line 4: longer than 16 MiB" in r.stdout, r.stdout
-
-
-def test_an_absurdly_long_idf_line_is_refused_under_the_limit(tmp_path):
+_LONG_LINES = {
+    # a 24 MB face line (the issue's reproducer, 100 MB, aborted under 4 GiB)
+    "long.obj": (b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf", b" 1 2 3", b"\n", 4),
     # the IDF reader streams through the same line reader: a 24 MB field list on line 2
-    idf = tmp_path / "long.idf"
-    with open(idf, "wb") as fh:
-        fh.write(b"Version,9.4;\nZone,Z")
-        chunk = b",0" * (1 << 16)
+    "long.idf": (b"Version,9.4;\nZone,Z", b",0", b";\n", 2),
+}
+
+
+@pytest.mark.parametrize("name", sorted(_LONG_LINES))
+def test_an_absurdly_long_line_is_refused_without_reading_it_whole(tmp_path, name):
+    # refused when the reader has read 16 MiB of the line, never held whole or split into
+    # Python objects, under the address-space limit
+    head, unit, tail, line = _LONG_LINES[name]
+    path = tmp_path / name
+    with open(path, "wb") as fh:
+        fh.write(head)
+        chunk = unit * (1 << 16)
         for _ in range(24 * (1 << 20) // len(chunk)):
             fh.write(chunk)
-        fh.write(b";\n")
+        fh.write(tail)
     code = """
     import sys
     import nusselt
@@ -139,6 +126,6 @@ def test_an_absurdly_long_idf_line_is_refused_under_the_limit(tmp_path):
         print("refused:", e)
         sys.exit(3)
     """
-    r = _run_limited(code, str(idf))
+    r = _run_limited(code, str(path))
     assert r.returncode == 3, (r.returncode, r.stderr[-2000:])
-    assert "long.idf, line 2: longer than 16 MiB" in r.stdout, r.stdout
+    assert f"{name}, line {line}: longer than 16 MiB" in r.stdout, r.stdout
