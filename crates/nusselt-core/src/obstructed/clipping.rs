@@ -107,17 +107,21 @@ impl<'a> ShadowTest<'a> {
     }
 }
 
-/// The chord (ends of its hull) along which polygon `b` passes through the plane (point q,
-/// normal n), if b has vertices strictly on both sides.
+/// The chord (ends of its hull) along which polygon `b` passes through or touches the plane
+/// (point q, normal n), if it does.
 fn plane_chord(b: &Polygon, q: Vec3, n: Vec3) -> Option<(Vec3, Vec3)> {
     let n = n.normalize_or_zero();
     let v = b.vertices();
     let tol = 1e-9 * b.radius();
     let h: Vec<f64> = v.iter().map(|x| n.dot(*x - q)).collect();
-    if !(h.iter().any(|&x| x > tol) && h.iter().any(|&x| x < -tol)) {
-        return None;
-    }
     let mut ends: Vec<Vec3> = Vec::new();
+    if !(h.iter().any(|&x| x > tol) && h.iter().any(|&x| x < -tol)) {
+        // touching the plane (a wall meeting the source along an edge) counts too
+        ends.extend(v.iter().zip(&h).filter(|(_, x)| x.abs() <= tol).map(|(p, _)| *p));
+        if ends.is_empty() {
+            return None;
+        }
+    }
     for k in 0..v.len() {
         let k1 = (k + 1) % v.len();
         if (h[k] > 0.0) != (h[k1] > 0.0) {
@@ -231,7 +235,7 @@ pub(super) fn adaptive_over_source(
         // where the shadowed F starts without a smooth transition and a small shadow may be
         // caught by few samples: count the whole difference there (300 room pairs at tol 1e-5:
         // largest error 4.7e-5 -> 8.1e-6 of the unobstructed F, 3 % more evaluations).
-        // A leaf next to where a blocker passes through the source's plane (the blocker
+        // A leaf next to where a blocker passes through or touches the source's plane (the blocker
         // reaches the source points, their shadowed F is not smooth there at any scale) gets
         // the whole difference too (three mutually blocking triangles: error 5.1 x tol at
         // 1e-6 with a quarter, docs/algorithms.md §6.2).
