@@ -73,6 +73,8 @@ def test_pair_invariants(a, b, s, t):
 @hypothesis.seed(23)
 @given(st.lists(triangle(), min_size=3, max_size=5), triangle(), scale)
 def test_scene_invariants(polys, obstacle, s):
+    # exact coordinates on failure: numpy's repr rounds to 8 digits, too few to replay a case
+    hypothesis.note(f"exact: polys={[p.tolist() for p in polys]!r} obstacle={obstacle.tolist()!r} s={s!r}")
     try:
         free_scene = nusselt.Scene.from_polygons(polys)
     except ValueError as e:  # overlapping coplanar faces are refused at build (issue 23 item 2)
