@@ -304,3 +304,24 @@ def test_mutually_blocking_triangles_meet_tol(tol):
             free = nusselt.view_factor(P[i], P[j])
             assert ref < 0.999 * free, (i, j)  # partly hidden
             assert abs(F[i, j] - ref) <= tol * free, (i, j, abs(F[i, j] - ref) / (tol * free))
+
+
+@pytest.mark.xfail(strict=True, reason="obstructed estimate misses at loose tol where faces meet at a vertex (open)")
+def test_faces_meeting_at_a_vertex_meet_a_loose_tol():
+    # found by the long hypothesis scene run: at obstructed_tol 1e-3 this scene is off by
+    # 1.35e-4 (28 x tol F_free), the same scene moved by (7, 7, 7) by 1e-6
+    polys = [
+        np.array(p, dtype=float)
+        for p in (
+            [[0, 0, 0], [0, 0, 1], [0, 1, 0]],
+            [[0, 0, 0], [0, -1, 0], [-1, 0, 0]],
+            [[0, 0, 0], [0, -1, 0], [-1, 0, 0.25]],
+            [[0, 1, -0.75], [0, 0, 0], [1, 1, 1]],
+        )
+    ]
+    scene = nusselt.Scene.from_polygons(polys)
+    ref = nusselt.form_factors(scene, obstructed_tol=1e-9).matrix.toarray()
+    free = np.array([[nusselt.view_factor(a, b) if a is not b else 0.0 for b in polys] for a in polys])
+    tol = 1e-3
+    F = nusselt.form_factors(scene, obstructed_tol=tol).matrix.toarray()
+    assert (np.abs(F - ref) <= tol * free + 1e-12).all(), np.max(np.abs(F - ref) / np.maximum(tol * free, 1e-300))
