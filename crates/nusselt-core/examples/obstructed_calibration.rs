@@ -8,10 +8,12 @@
 //! number above 1 (over the partly hidden pairs; fully hidden ones must come out exactly 0,
 //! and the count of those that do not is printed), and the CPU time per pair (this thread). NUSSELT_MAXEVALS=N sets `max_evals`;
 //! NUSSELT_WORST=1 lists the pairs above their target.
+#[path = "common/polygon_file.rs"]
+mod polygon_file;
 use nusselt_core::obstructed::{self, Context, VisMethod, VisOptions};
 use nusselt_core::unobstructed::method::{self, Facing, Method};
 use nusselt_core::visibility::{Bvh, Occluders, Visibility};
-use nusselt_core::{Polygon, Vec3};
+use polygon_file::read_polygons;
 use std::time::Instant;
 
 /// CPU seconds of this thread so far (Linux), wall seconds elsewhere.
@@ -24,18 +26,10 @@ fn cpu_seconds(wall: &Instant) -> f64 {
 
 fn main() {
     let args: Vec<String> = std::env::args().collect();
-    let text = std::fs::read_to_string(&args[1]).expect("readable polygon file");
     let want: usize = args[2].parse().expect("a number of pairs");
     let refs_file = &args[3];
     let tols: Vec<f64> = args[4..].iter().map(|s| s.parse().expect("a tolerance")).collect();
-    let polys: Vec<Polygon> = text
-        .lines()
-        .filter(|l| !l.trim().is_empty())
-        .map(|l| {
-            let x: Vec<f64> = l.split_whitespace().map(|s| s.parse().expect("a number")).collect();
-            Polygon::new(x.chunks(3).map(|c| Vec3::new(c[0], c[1], c[2])).collect()).expect("a valid polygon")
-        })
-        .collect();
+    let polys = read_polygons(&args[1]);
     let occ = Occluders::new(&polys);
     let bvh = Bvh::new(&occ.polygons).unwrap();
     let ctx = Context { polygons: &polys, occluders: &occ, vis: &bvh, rules: None };

@@ -6,25 +6,20 @@
 //!       (default 10) with their time; the total is the one-core time of the scene
 //!   ... FILE TOL SLOWEST I J
 //!       time the pair (I, J) alone
+#[path = "common/polygon_file.rs"]
+mod polygon_file;
 use nusselt_core::obstructed::VisMethod;
 use nusselt_core::scene::{AllOptions, AnyMethod, Scene};
-use nusselt_core::{Polygon, Vec3};
+use nusselt_core::Polygon;
+use polygon_file::read_polygons;
 use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 
 fn main() {
     let args: Vec<String> = std::env::args().collect();
-    let text = std::fs::read_to_string(&args[1]).expect("readable polygon file");
     let tol: f64 = args.get(2).and_then(|s| s.parse().ok()).unwrap_or(1e-6);
     let slowest: usize = args.get(3).and_then(|s| s.parse().ok()).unwrap_or(10);
-    let polys: Vec<Polygon> = text
-        .lines()
-        .filter(|l| !l.trim().is_empty())
-        .map(|l| {
-            let x: Vec<f64> = l.split_whitespace().map(|s| s.parse().expect("a number")).collect();
-            Polygon::new(x.chunks(3).map(|c| Vec3::new(c[0], c[1], c[2])).collect()).expect("a valid polygon")
-        })
-        .collect();
+    let polys = read_polygons(&args[1]);
     let n = polys.len();
     let scene = Scene::new(polys, vec![true; n]).unwrap();
     let mut o = AllOptions::default();
