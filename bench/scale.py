@@ -70,6 +70,31 @@ def _cpu_rss() -> tuple[float, float]:
     return r.ru_utime + r.ru_stime, r.ru_maxrss / 1024.0
 
 
+def pair_sample_rows(polys, rows: np.ndarray, method: str, full: dict) -> tuple[np.ndarray, float]:
+    """F of the sample rows by a pair method, and the CPU seconds after its fixed costs: the
+    sample polygons go first, so the pair rows 0..s hold every pair with a sample polygon
+    (G_ji of the sample rows before a mirrored: F_aj = G_ja / A_a)."""
+    import nusselt
+
+    n, s = len(polys), len(rows)
+    order = np.concatenate([rows, np.setdiff1d(np.arange(n), rows)])
+    scene = nusselt.Scene.from_polygons([polys[k] for k in order])
+    # fixed costs once (the last row has no pairs j > i left), then the sample rows
+    scene._core.pair_rows(np.array([n - 1], dtype=np.int64), method, full)
+    c1, _ = _cpu_rss()
+    ip, idx, g, _ = scene._core.pair_rows(np.arange(s, dtype=np.int64), method, full)
+    areas = np.asarray(scene.areas)
+    part = np.zeros((s, n))
+    for a in range(s):
+        cols, vals = idx[ip[a] : ip[a + 1]], g[ip[a] : ip[a + 1]]
+        part[a, cols] = vals / areas[a]
+        sel = cols < s
+        part[cols[sel], a] = vals[sel] / areas[cols[sel]]
+    dense = np.zeros((s, n))
+    dense[:, order] = part  # back to the original column order
+    return dense, c1
+
+
 def child(spec: dict) -> dict:
     """One measured run (in a fresh process): the sample rows as dense arrays, CPU, RSS."""
     import nusselt
@@ -83,23 +108,8 @@ def child(spec: dict) -> dict:
     c0, _ = _cpu_rss()  # the bench's own polygon generation is not counted
     out: dict = {"patches": n}
     if spec["mode"] == "reference":
-        order = np.concatenate([rows, np.setdiff1d(np.arange(n), rows)])
-        scene = nusselt.Scene.from_polygons([polys[k] for k in order])
-        m, full = resolve(method, opts)
-        ip, idx, g, _ = scene._core.pair_rows(np.arange(len(rows), dtype=np.int64), method, full)
-        s = len(rows)
-        areas = np.asarray(scene.areas)
-        dense = np.zeros((s, n))
-        for a in range(s):
-            cols, vals = idx[ip[a] : ip[a + 1]], g[ip[a] : ip[a + 1]]
-            dense[a, cols] = vals / areas[a]
-            # G_ji of the sample rows before a, mirrored: F_aj = G_ja / A_a
-            sel = cols < s
-            dense[cols[sel], a] = vals[sel] / areas[cols[sel]]
-        # back to the original column order
-        ref = np.zeros((s, n))
-        ref[:, order] = dense
-        out["rows"] = ref.tolist()
+        _, full = resolve(method, opts)
+        out["rows"] = pair_sample_rows(polys, rows, method, full)[0].tolist()
     elif spec["mode"] == "full":
         scene = nusselt.Scene.from_polygons(polys)
         res = nusselt.form_factors(scene, method=method, **opts)
@@ -123,24 +133,9 @@ def child(spec: dict) -> dict:
                 dense[a, idx[ip[a] : ip[a + 1]]] = val[ip[a] : ip[a + 1]]
             scale = n / len(rows)
         else:
-            order = np.concatenate([rows, np.setdiff1d(np.arange(n), rows)])
-            scene = nusselt.Scene.from_polygons([polys[k] for k in order])
-            s = len(rows)
-            # fixed costs once (the last row has no pairs j > i left), then the sample rows
-            scene._core.pair_rows(np.array([n - 1], dtype=np.int64), method, full)
-            c1, _ = _cpu_rss()
-            ip, idx, g, _ = scene._core.pair_rows(np.arange(s, dtype=np.int64), method, full)
-            areas = np.asarray(scene.areas)
-            part = np.zeros((s, n))
-            for a in range(s):
-                cols, vals = idx[ip[a] : ip[a + 1]], g[ip[a] : ip[a + 1]]
-                part[a, cols] = vals / areas[a]
-                sel = cols < s
-                part[cols[sel], a] = vals[sel] / areas[cols[sel]]
-            dense = np.zeros((s, n))
-            dense[:, order] = part
+            dense, c1 = pair_sample_rows(polys, rows, method, full)
             # rows 0..s of the reordered scene hold about s N pairs of the N^2 / 2
-            scale = n / (2.0 * s)
+            scale = n / (2.0 * len(rows))
         cpu, rss = _cpu_rss()
         out.update(cpu_s=(c1 - c0) + (cpu - c1) * scale, rss_mb=rss, rows=dense.tolist())
     return out
