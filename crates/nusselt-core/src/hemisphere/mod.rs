@@ -26,6 +26,7 @@ pub mod hemicube;
 pub mod nusselt_analog;
 pub mod raytrace;
 pub mod single_plane;
+mod source_cuts;
 
 pub use hemicube::{hemicube_row, HemicubeOptions};
 pub use nusselt_analog::{nusselt_row, NusseltOptions};
@@ -196,7 +197,11 @@ pub(crate) fn row_over_points(
         acc.reset(scene.len());
         let (seed, rotation) = match points {
             Points::Rule { source, seed, rotation } => {
-                source.generate(src, scene_diameter(scene), seed, i, pts);
+                let size = scene_diameter(scene);
+                source.generate(src, size, seed, i, pts);
+                if matches!(source, SourcePoints::Auto | SourcePoints::Gauss(_)) {
+                    rule_over_pieces(&source_cuts::source_pieces(scene, i), source, size, seed, i, pts);
+                }
                 (seed, rotation)
             }
             Points::WholePatch => {
@@ -215,6 +220,31 @@ pub(crate) fn row_over_points(
         }
         Ok(RowResult { entries: acc.entries(receivers), std_err: None, lost, samples: 0 })
     })
+}
+
+/// Replaces the points of a Gauss rule over a whole source by the rule over each of `pieces`
+/// (the source cut where other polygons stand on it, [`source_cuts::source_pieces`]), each
+/// piece's weights scaled by its share of the area. No pieces: `pts` is left as it is.
+fn rule_over_pieces(
+    pieces: &[Vec<Vec3>],
+    source: SourcePoints,
+    size: f64,
+    seed: u64,
+    i: usize,
+    pts: &mut Vec<(Vec3, f64)>,
+) {
+    let polys: Vec<Polygon> = pieces.iter().filter_map(|p| Polygon::new(p.clone()).ok()).collect();
+    let total: f64 = polys.iter().map(Polygon::area).sum();
+    if polys.is_empty() || !(total > 0.0) {
+        return;
+    }
+    pts.clear();
+    let mut one = Vec::new();
+    for piece in &polys {
+        source.generate(piece, size, seed, i, &mut one);
+        let share = piece.area() / total;
+        pts.extend(one.iter().map(|&(x, w)| (x, w * share)));
+    }
 }
 
 /// Validates the common arguments of a row computation.

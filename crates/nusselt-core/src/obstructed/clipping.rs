@@ -3,7 +3,7 @@
 
 use super::rules::{area3, centroid3, radon7, rule_integral};
 use super::VisOptions;
-use crate::geometry::{Polygon, Vec3};
+use crate::geometry::{plane_chord, Polygon, Vec3};
 
 /// How far the blockers keep from the plane of `p`, relative to p's size: the least height of
 /// a blocker vertex in front of it, 0 for a blocker that crosses the plane.
@@ -105,35 +105,6 @@ impl<'a> ShadowTest<'a> {
             }
         }
     }
-}
-
-/// The chord (ends of its hull) along which polygon `b` passes through or touches the plane
-/// (point q, normal n), if it does.
-fn plane_chord(b: &Polygon, q: Vec3, n: Vec3) -> Option<(Vec3, Vec3)> {
-    let n = n.normalize_or_zero();
-    let v = b.vertices();
-    let tol = 1e-9 * b.radius();
-    let h: Vec<f64> = v.iter().map(|x| n.dot(*x - q)).collect();
-    let mut ends: Vec<Vec3> = Vec::new();
-    if !(h.iter().any(|&x| x > tol) && h.iter().any(|&x| x < -tol)) {
-        // touching the plane (a wall meeting the source along an edge) counts too
-        ends.extend(v.iter().zip(&h).filter(|(_, x)| x.abs() <= tol).map(|(p, _)| *p));
-        if ends.is_empty() {
-            return None;
-        }
-    }
-    for k in 0..v.len() {
-        let k1 = (k + 1) % v.len();
-        if (h[k] > 0.0) != (h[k1] > 0.0) {
-            ends.push(v[k] + (v[k1] - v[k]) * (h[k] / (h[k] - h[k1])));
-        }
-    }
-    let (&a, rest) = ends.split_first()?;
-    let far = |from: Vec3| {
-        rest.iter().chain([&a]).copied().fold(from, |m, x| if x.distance(from) > m.distance(from) { x } else { m })
-    };
-    let p = far(a);
-    Some((p, far(p)))
 }
 
 /// True if the segment pq comes within twice the longest edge of triangle t of its centroid.
