@@ -24,6 +24,8 @@ peak RSS its own). Errors of the result, against references computed here:
 
     python bench/urban_run.py                 # k = 12, prints a markdown row and JSON
     python bench/urban_run.py --k 2 --rows 8 --surface-k 2   # the same steps on 640 patches, quick
+    python bench/urban_run.py --whole 6      # every entry of urban(6) (5 760 patches) against
+                                             # the row reference's targets, through the API
 """
 
 from __future__ import annotations
@@ -107,6 +109,25 @@ def reference_surfaces(k: int) -> tuple[np.ndarray, list[str], float]:
     return surface_matrix(res.matrix, res.areas, res.surface, len(names)), names, _cpu() - c0
 
 
+def whole_check(k: int) -> dict:
+    """Every entry of urban(k) at RUN against ROW_REFERENCE (both whole, one process)."""
+    import nusselt
+
+    scene = urban(k).scene()
+    c0 = _cpu()
+    run = nusselt.form_factors(scene, method="auto", **RUN)
+    c1 = _cpu()
+    ref = nusselt.form_factors(scene, method="auto", **ROW_REFERENCE)
+    c2 = _cpu()
+    return {
+        "patches": len(scene),
+        "run_cpu_s": c1 - c0,
+        "reference_cpu_s": c2 - c1,
+        "max_entry_err": float(abs(run.matrix - ref.matrix).max()),
+        "max_row_sum_err": float(np.abs(run.row_sums - ref.row_sums).max()),
+    }
+
+
 def _cpu() -> float:
     r = resource.getrusage(resource.RUSAGE_SELF)
     return r.ru_utime + r.ru_stime
@@ -150,8 +171,12 @@ def main() -> None:
     )
     ap.add_argument("--work", help="directory for the OBJ and the result (default: a temp dir)")
     ap.add_argument("--reuse", action="store_true", help="use the result and timing already in --work (no new run)")
-    ap.add_argument("option", nargs="*", help="extra arguments for nusselt matrix (e.g. --float32)")
-    args = ap.parse_args()
+    ap.add_argument("--whole", type=int, help="only compare every entry of urban(WHOLE) with its reference")
+    # anything else is passed on to nusselt matrix (e.g. --float32)
+    args, args.option = ap.parse_known_args()
+    if args.whole is not None:
+        print(json.dumps(whole_check(args.whole)))
+        return
     import nusselt.io
 
     work = pathlib.Path(args.work or tempfile.mkdtemp(prefix="urban-run-"))
