@@ -16,7 +16,7 @@ float64 arrays, counter-clockwise seen from their front side, as the rest of nus
   known to 1e-12 by an independent dblquad (:func:`blocker_plates_exact`).
 - :func:`room_with_crate`: a closed 3 m cube room, walls meshed n x n, with a unit crate
   floating inside, faces meshed m x m (n, m = 6, 3: 270 patches). Closed.
-- :func:`urban`: ground plus a 4 x 4 grid of buildings, 144 k^2 patches (k = 4, 6, 12 give
+- :func:`urban`: ground plus a 4 x 4 grid of buildings, 160 k^2 patches (k = 4, 6, 12 give
   2 560, 5 760 and 23 040). Open.
 
 The closed scenes are built as the boundary of the empty cells of a rectilinear cell grid
@@ -301,9 +301,11 @@ def room_with_crate(n: int = 6, m: int = 3) -> Spec:
 
 def urban(k: int = 6) -> Spec:
     """Ground [0, 8]^2 meshed 4k x 4k, and 16 buildings 1 x 1 x 2 m at (2i + 0.5, 2j + 0.5), roofs meshed
-    k x k and walls k x 2k: 144 k^2 patches (k = 4, 6, 12: 2 560, 5 760, 23 040). The ground
-    is one grid under everything (a site slab with buildings put on it, walls standing
-    inside ground cells): the parts under a footprint see nothing. Open: rows sum to less than 1."""
+    k x k and walls k x 2k: 16 k^2 + 16 (k^2 + 8 k^2) = 160 k^2 patches (k = 4, 6, 12: 2 560, 5 760,
+    23 040). The ground is one grid under everything (a site slab with buildings put on it; for
+    k = 4m the walls stand on ground cell edges): the parts under a footprint see nothing, and
+    the roofs, all in one plane above everything else, see nothing either. Open: rows sum to
+    less than 1."""
     polys, surf = [], []
     g = rect_grid((0, 0, 0), (8, 0, 0), (0, 8, 0), 4 * k, 4 * k, (0, 0, 1))
     polys += g
