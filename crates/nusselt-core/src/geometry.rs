@@ -523,15 +523,17 @@ pub(crate) fn plane_chord(b: &Polygon, q: Vec3, n: Vec3) -> Option<(Vec3, Vec3)>
 
 /// [`drop_repeated`] without a new allocation.
 fn drop_repeated_in_place(v: &mut Vec<Vec3>, tol: f64) {
+    // squared distances: no square root per vertex on the clipping hot path
+    let tol2 = tol * tol;
     let mut kept = 0;
     for k in 0..v.len() {
-        if kept == 0 || v[kept - 1].distance(v[k]) > tol {
+        if kept == 0 || v[kept - 1].distance_squared(v[k]) > tol2 {
             v[kept] = v[k];
             kept += 1;
         }
     }
     v.truncate(kept);
-    while v.len() > 1 && v[0].distance(*v.last().unwrap()) <= tol {
+    while v.len() > 1 && v[0].distance_squared(*v.last().unwrap()) <= tol2 {
         v.pop();
     }
 }

@@ -69,29 +69,35 @@ pub(super) fn source_rule(tol: f64) -> Vec<([f64; 3], f64)> {
 /// adaptive rule spends no evaluation on such pieces; where some do, only they are projected.
 pub(super) struct ShadowTest<'a> {
     receiver: &'a Polygon,
-    /// blocker triangles, their normals and the index of their blocker
-    triangles: Vec<([Vec3; 3], Vec3, usize)>,
+    /// blocker triangles and their normals, blocker by blocker
+    triangles: Vec<([Vec3; 3], Vec3)>,
+    /// blocker k's triangles are `triangles[ends[k - 1]..ends[k]]`
+    ends: Vec<usize>,
     max_abs: f64,
 }
 
 impl<'a> ShadowTest<'a> {
     pub(super) fn new(receiver: &'a Polygon, blockers: &[&Polygon]) -> Self {
         let mut triangles = Vec::new();
+        let mut ends = Vec::with_capacity(blockers.len());
         let mut max_abs: f64 = 0.0;
-        for (k, b) in blockers.iter().enumerate() {
+        for b in blockers {
             let v = b.vertices();
             for x in v {
                 max_abs = max_abs.max(x.abs().max_element());
             }
             for t in b.triangulate() {
-                triangles.push(([v[t[0]], v[t[1]], v[t[2]]], b.normal(), k));
+                triangles.push(([v[t[0]], v[t[1]], v[t[2]]], b.normal()));
             }
+            ends.push(triangles.len());
         }
-        ShadowTest { receiver, triangles, max_abs }
+        ShadowTest { receiver, triangles, ends, max_abs }
     }
 
     /// The blockers among `within` (sorted indices) that meet the shaft of `t` and the
     /// receiver, sorted, into `out` (all of `within` if t is too thin to be a polygon).
+    /// Only the triangles of blockers in `within` are tested (a leaf's blockers are a few
+    /// of the pair's).
     pub(super) fn active(&self, t: &[Vec3; 3], within: &[usize], out: &mut Vec<usize>) {
         out.clear();
         let Ok(piece) = Polygon::new(t.to_vec()) else {
@@ -99,9 +105,10 @@ impl<'a> ShadowTest<'a> {
             return;
         };
         let shaft = crate::visibility::bvh::Shaft::new(&piece, self.receiver, self.max_abs);
-        for (v, n, k) in &self.triangles {
-            if out.last() != Some(k) && within.binary_search(k).is_ok() && shaft.may_meet_triangle(v, *n) {
-                out.push(*k);
+        for &k in within {
+            let start = if k == 0 { 0 } else { self.ends[k - 1] };
+            if self.triangles[start..self.ends[k]].iter().any(|(v, n)| shaft.may_meet_triangle(v, *n)) {
+                out.push(k);
             }
         }
     }

@@ -151,13 +151,17 @@ fn cast_into(p: Vec3, n: Vec3, receiver: &Polygon, blockers: &[&Polygon], out: &
     // Half-spaces (point, inward normal): the receiver side of the receiver plane, the front
     // of the point's surface element, below p; then the pyramid p -> window.
     let mut clip_planes = [(c, nr), (p, n), (p - NEAR_P * h_p * nr, -nr), (p, n), (p, n), (p, n), (p, n)];
-    for k in 0..4 {
-        let mut pn = (win3[k] - p).cross(win3[(k + 1) % 4] - p);
-        if pn.dot(centre - p) < 0.0 {
-            pn = -pn;
+    // the pyramid's planes, set when a blocker first needs them (most points need none)
+    let mut pyramid = false;
+    let set_pyramid = |planes: &mut [(Vec3, Vec3); 7]| {
+        for k in 0..4 {
+            let mut pn = (win3[k] - p).cross(win3[(k + 1) % 4] - p);
+            if pn.dot(centre - p) < 0.0 {
+                pn = -pn;
+            }
+            planes[3 + k] = (p, pn.normalize());
         }
-        clip_planes[3 + k] = (p, pn.normalize());
-    }
+    };
     let project = |x: Vec3| {
         let depth = nr.dot(p - x); // > 0 after the clip below p
         frame.to2d(p + (x - p) * (h_p / depth))
@@ -173,8 +177,18 @@ fn cast_into(p: Vec3, n: Vec3, receiver: &Polygon, blockers: &[&Polygon], out: &
     shadows.clear();
     for b in blockers {
         let v = b.vertices();
-        // Quick rejects: entirely on or behind the receiver plane, or behind p's plane.
-        if v.iter().all(|x| nr.dot(*x - c) <= tol) || v.iter().all(|x| n.dot(*x - p) <= tol) {
+        // Quick rejects: entirely on or behind the receiver plane, or behind p's plane; and
+        // whether the blocker lies between the planes, well below p (see below), in one pass.
+        let (mut off_r, mut off_n, mut plain) = (true, true, true);
+        for x in v {
+            let (hr, hn) = (nr.dot(*x - c), n.dot(*x - p));
+            off_r &= hr <= tol;
+            off_n &= hn <= tol;
+            // (a vertex within rounding of a plane, as where a wall meets the floor, lies on it:
+            // clipping it off would cut a sliver of rounding width at the cost of a clip)
+            plain &= hr >= -tol && hn >= -tol && nr.dot(p - *x) >= deep;
+        }
+        if off_r || off_n {
             continue;
         }
         // Usual case: the whole blocker lies between the planes, well below p. Its shadow is
@@ -184,7 +198,6 @@ fn cast_into(p: Vec3, n: Vec3, receiver: &Polygon, blockers: &[&Polygon], out: &
         // is needed: the convex path takes it as it is.) A blocker that crosses a plane is
         // clipped to the three planes first, and to the pyramid only if it then still comes
         // close to p's height.
-        let plain = v.iter().all(|x| nr.dot(*x - c) >= 0.0 && n.dot(*x - p) >= 0.0 && nr.dot(p - *x) >= deep);
         s.clear();
         if plain {
             s.extend(v.iter().map(|x| project(*x)));
@@ -204,6 +217,10 @@ fn cast_into(p: Vec3, n: Vec3, receiver: &Polygon, blockers: &[&Polygon], out: &
                     continue;
                 }
             } else {
+                if !pyramid {
+                    set_pyramid(&mut clip_planes);
+                    pyramid = true;
+                }
                 clip_3d(&clip_planes[3..], cur, next);
                 if cur.len() < 3 {
                     continue;
@@ -575,8 +592,11 @@ fn orient(u: [f64; 2], w: [f64; 2], x: [f64; 2]) -> f64 {
 fn is_convex(v: &[[f64; 2]]) -> bool {
     let m = v.len();
     (0..m).all(|i| {
-        let (cross, scale) = turn(v[i], v[(i + 1) % m], v[(i + 2) % m]);
-        cross >= -1e-12 * scale
+        let (a, b, c) = (v[i], v[(i + 1) % m], v[(i + 2) % m]);
+        let (e, f) = ([b[0] - a[0], b[1] - a[1]], [c[0] - b[0], c[1] - b[1]]);
+        let cross = e[0] * f[1] - e[1] * f[0];
+        // cross >= -1e-12 |e| |f|, without a square root for the usual left turns
+        cross >= 0.0 || cross * cross <= 1e-24 * ((e[0] * e[0] + e[1] * e[1]) * (f[0] * f[0] + f[1] * f[1]))
     })
 }
 
