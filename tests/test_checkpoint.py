@@ -374,3 +374,13 @@ def test_the_cli_writes_no_checkpoint_for_a_short_run_and_from_the_start_with_ch
     assert len(saved) >= 2 and set(saved) == {str(d)} and not d.exists()  # removed once the output is written
     a, b = (nusselt.io.load_npz(tmp_path / f)["matrix"] for f in ("a.npz", "b.npz"))
     assert np.array_equal(a.data, b.data) and np.array_equal(a.indices, b.indices)
+
+
+def test_holds_run_sees_a_manifest_blocks_or_a_zone_checkpoint_inside(tmp_path):
+    assert not ck.holds_run(tmp_path / "none")
+    (tmp_path / "empty").mkdir()
+    assert not ck.holds_run(tmp_path / "empty")
+    _run(_scene(3), tmp_path / "zones" / "zone0")  # as nusselt.zones lays out a building's run
+    assert ck.holds_run(tmp_path / "zones") and ck.holds_run(tmp_path / "zones" / "zone0")
+    (tmp_path / "zones" / "zone0" / "manifest.json").unlink()
+    assert ck.holds_run(tmp_path / "zones")  # stray blocks: refused when opened, before any work

@@ -107,12 +107,18 @@ def what_changed(old: dict, new: dict) -> str:
 
 
 def holds_run(path: str | os.PathLike) -> bool:
-    """Whether ``path`` holds anything of a run (a manifest or block files): such a directory
-    is opened, checked or refused, before any work; otherwise it may be created later."""
+    """Whether ``path`` holds anything of a run (a manifest or block files, or a directory
+    that does, as a zone's of :mod:`nusselt.zones`): such a directory is opened, checked or
+    refused, before any work; otherwise it may be created later."""
     path = os.fspath(path)
     if not os.path.isdir(path):
         return os.path.exists(path)  # a file there: Checkpoint refuses it at once
-    return any(f == MANIFEST or (f.startswith("block_") and f.endswith(".npz")) for f in os.listdir(path))
+    return any(
+        f == MANIFEST
+        or (f.startswith("block_") and f.endswith(".npz"))
+        or (os.path.isdir(os.path.join(path, f)) and holds_run(os.path.join(path, f)))
+        for f in os.listdir(path)
+    )
 
 
 class Checkpoint:
