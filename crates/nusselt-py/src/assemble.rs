@@ -129,5 +129,5 @@ pub fn pair_reciprocity(
         }
     }
     let pool = crate::threads::pool();
-    Ok(py.detach(|| guard(|| pool.install(|| upper_reciprocity(areas, &rows, float32))))?)
+    py.detach(|| guard(|| pool.install(|| upper_reciprocity(areas, &rows, float32))))
 }
