@@ -9,6 +9,13 @@ against the closed forms (Howell C-11, C-14).
 
     python bench/cube.py                       # n = 4, 8, 16, 32; pyviewfactor up to 16
     python bench/cube.py --n 32 --tol 1e-6 1e-10 --no-peer
+
+``--whole-run`` measures instead the whole ``nusselt matrix cube.obj -o cube.npz --option
+tol=T -q`` process (import, OBJ read, compute, assembly, output), each run a fresh child:
+its CPU user and sys seconds, its peak RSS, and the RSS over the bytes of the CSR result
+(data + indices + indptr, as read back); ``--repeat`` runs each size that many times.
+
+    python bench/cube.py --whole-run --n 32 --tol 1e-3 --repeat 3   # the 6 144-patch cube
 """
 
 from __future__ import annotations
@@ -111,6 +118,59 @@ def child(args) -> None:
     print(json.dumps(out))
 
 
+def write_cube_obj(path: str, n: int) -> None:
+    polys, _ = cube_faces(n)
+    with open(path, "w") as fh:
+        for q in polys:
+            fh.writelines(f"v {x!r} {y!r} {z!r}\n" for x, y, z in q.tolist())
+        fh.writelines("f " + " ".join(str(4 * k + i) for i in range(1, 5)) + "\n" for k in range(len(polys)))
+
+
+def whole_run(n: int, tol: float, work: str, extra: list[str]) -> dict:
+    """One ``nusselt matrix`` process on the n x n cube: CPU (user, sys), peak RSS and CSR size."""
+    import os
+
+    scene = os.path.join(work, f"cube{6 * n * n}.obj")
+    if not os.path.exists(scene):
+        write_cube_obj(scene, n)
+    out = os.path.join(work, "cube.npz")
+    entry = "import sys; from nusselt.cli import main; sys.exit(main(sys.argv[1:]))"  # as the console script
+    cmd = [sys.executable, "-c", entry, "matrix", scene, "-o", out, "--option", f"tol={tol}", "-q", *extra]
+    t0 = time.perf_counter()
+    proc = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+    _, status, use = os.wait4(proc.pid, 0)
+    wall = time.perf_counter() - t0
+    err = proc.stderr.read().decode() if proc.stderr else ""
+    proc.returncode = os.waitstatus_to_exitcode(status)
+    if proc.returncode != 0:
+        raise RuntimeError(f"nusselt matrix failed: {err.strip().splitlines()[-1:]}")
+    import nusselt.io
+
+    m = nusselt.io.load_npz(out)["matrix"]
+    csr = m.data.nbytes + m.indices.nbytes + m.indptr.nbytes
+    os.unlink(out)
+    return {"user": use.ru_utime, "sys": use.ru_stime, "wall": wall, "rss": use.ru_maxrss * 1024, "csr": csr}
+
+
+def main_whole_run(args) -> None:
+    import tempfile
+
+    print(
+        f"{'n':>3s} {'patches':>7s} {'tol':>7s} {'user s':>7s} {'sys s':>6s} {'cpu s':>6s} {'wall s':>7s}"
+        f" {'RSS MB':>7s} {'CSR MB':>7s} {'RSS/CSR':>7s}"
+    )
+    with tempfile.TemporaryDirectory(prefix="nusselt-cube-") as work:
+        for n in args.n:
+            for tol in args.tol:
+                for _ in range(args.repeat):
+                    r = whole_run(n, tol, work, args.extra)
+                    print(
+                        f"{n:3d} {6 * n * n:7d} {tol:7g} {r['user']:7.2f} {r['sys']:6.2f} {r['user'] + r['sys']:6.2f}"
+                        f" {r['wall']:7.2f} {r['rss'] / 1e6:7.0f} {r['csr'] / 1e6:7.0f} {r['rss'] / r['csr']:7.2f}",
+                        flush=True,
+                    )
+
+
 def main() -> None:
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--n", type=int, nargs="+", default=[4, 8, 16, 32])
@@ -118,7 +178,13 @@ def main() -> None:
     p.add_argument("--peer-max-n", type=int, default=16)
     p.add_argument("--no-peer", action="store_true")
     p.add_argument("--child", choices=["nusselt", "pyviewfactor"], dest="tool")
+    p.add_argument("--whole-run", action="store_true", help="time whole `nusselt matrix` processes (see above)")
+    p.add_argument("--repeat", type=int, default=1, help="--whole-run: runs per size and tol")
+    p.add_argument("--extra", nargs=argparse.REMAINDER, default=[], help="--whole-run: more nusselt matrix arguments")
     args = p.parse_args()
+    if args.whole_run:
+        main_whole_run(args)
+        return
     if args.tool:
         child(args)
         return

@@ -11,6 +11,10 @@ the reference's wall time, does one of:
                 a block, flips one byte, deletes or garbles the manifest, adds a foreign block
                 without manifest), then ``--resume``.
 
+Killed and corrupted runs pass ``--checkpoint``, so blocks are written from the first on;
+interrupted runs keep the default, in which a short run's blocks are only held in memory until
+Ctrl-C writes them.
+
 A resume that ends must give the reference matrix bit for bit and leave no temporary file or
 checkpoint behind; a resume that refuses must exit 2 with one line on stderr naming the
 checkpoint (no traceback), after which removing what it names and resuming again must give
@@ -170,6 +174,8 @@ def main() -> int:
             str(args.block_size),
             "-o",
             os.path.join(work, "other.npz"),
+            "--checkpoint",
+            os.path.join(work, "other.npz.partial"),
         ],
         stdout=subprocess.DEVNULL,
         stderr=subprocess.DEVNULL,
@@ -189,7 +195,10 @@ def main() -> int:
         kind = rng.choice(args.kinds)
         out = os.path.join(work, f"t{t}.npz")
         partial = out + ".partial"
-        p = subprocess.Popen(base + ["-o", out], stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+        # kill and corrupt: the checkpoint from the first block (the default writes none in a
+        # run's first 10 s); interrupt: the default, so Ctrl-C writes the blocks held till then
+        forced = [] if kind == "interrupt" else ["--checkpoint", partial]
+        p = subprocess.Popen(base + ["-o", out, *forced], stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
         if kind == "corrupt":  # something to corrupt: wait for the first block
             while p.poll() is None and not (
                 os.path.isdir(partial) and any(f.startswith("block_") for f in os.listdir(partial))

@@ -258,3 +258,129 @@ def test_a_checkpoint_in_use_by_another_run_is_refused(tmp_path):
             ck.Checkpoint(tmp_path / "ck", run, resume=True)  # flock: per open file, so here too
     finally:
         first.close()
+
+
+# --- when the checkpoint is written (deferral) -----------------------------------------------
+
+
+class _Clock:
+    """Stands in for time.perf_counter in nusselt.blocks: every reading is ``step`` s later."""
+
+    def __init__(self, step):
+        self.now, self.step = 0.0, step
+
+    def __call__(self):
+        self.now += self.step
+        return self.now
+
+
+def _block_files(path):
+    return sorted(p.name for p in path.glob("block_*.npz")) if path.is_dir() else []
+
+
+def _same(a, b):
+    return all(np.array_equal(getattr(a.matrix, k), getattr(b.matrix, k)) for k in ("indptr", "indices", "data"))
+
+
+def test_a_run_shorter_than_checkpoint_after_writes_no_checkpoint(tmp_path, monkeypatch):
+    scene = _scene(4)
+    ref = nusselt.form_factors(scene, block_size=200)
+    monkeypatch.setattr(ck.Checkpoint, "save", lambda *a: pytest.fail("a block was written"))
+    res = _run(scene, tmp_path / "ck", checkpoint_after=1e9)
+    assert not (tmp_path / "ck").exists() and _same(ref, res)
+
+
+def test_the_held_blocks_are_written_once_checkpoint_after_has_passed(tmp_path, monkeypatch):
+    """Each clock reading is 1 s later: a block's compute ends 2k s in; with a deferral of
+    5.5 s the first two blocks are held, written with the third, later ones as they finish,
+    and the checkpoint resumes to the identical matrix."""
+    scene = _scene(4)
+    ref = nusselt.form_factors(scene, block_size=200)
+    writes = []
+    save = ck.Checkpoint.save
+
+    def record(self, k, start, stop, b):
+        writes.append((k, len(clock_readings)))
+        save(self, k, start, stop, b)
+
+    clock = _Clock(1.0)
+    clock_readings = []
+    monkeypatch.setattr(nusselt.blocks.time, "perf_counter", lambda: clock_readings.append(0) or clock())
+    monkeypatch.setattr(ck.Checkpoint, "save", record)
+    res = _run(scene, tmp_path / "ck", checkpoint_after=5.5)
+    monkeypatch.undo()
+    assert _same(ref, res)
+    assert [k for k, _ in writes] == list(range(len(writes))) and len(writes) >= 4
+    at = [r for _, r in writes]
+    assert at[0] == at[1] == at[2] == 7  # the first three together, after the third block (reading 7)
+    assert all(b > a for a, b in zip(at[2:], at[3:]))  # then one by one
+    path = tmp_path / "ck"
+    assert len(_block_files(path)) == len(writes)
+    files = _block_files(path)
+    for f in files[len(files) // 2 :]:
+        (path / f).unlink()
+    assert _same(ref, _run(scene, path, resume=True))
+
+
+def test_ctrl_c_while_the_checkpoint_is_deferred_writes_the_finished_blocks_there(tmp_path, monkeypatch):
+    from test_interrupt import _Bar
+
+    scene = _scene(4)
+    ref = nusselt.form_factors(scene, block_size=200)
+    monkeypatch.setattr(nusselt.api, "_progress", lambda *a, **k: _Bar(stop_after=3))
+    with pytest.raises(KeyboardInterrupt, match="resume=True") as e:
+        _run(scene, tmp_path / "ck", checkpoint_after=1e9, progress=True)
+    monkeypatch.undo()
+    assert str(tmp_path / "ck") in str(e.value)
+    assert len(_block_files(tmp_path / "ck")) == 3
+    assert _same(ref, _run(scene, tmp_path / "ck", resume=True, checkpoint_after=1e9))
+
+
+def test_a_threshold_that_drops_pairs_ends_the_deferral_at_once(tmp_path, monkeypatch):
+    scene = _scene(4)
+    ref = nusselt.form_factors(scene, block_size=200, threshold=0.02)
+    res = _run(scene, tmp_path / "ck", checkpoint_after=1e9, threshold=0.02)
+    assert res.info["dropped"] > 0 and _same(ref, res)
+    assert len(_block_files(tmp_path / "ck")) >= 2  # held blocks would double the memory
+
+
+def test_a_directory_that_holds_a_run_is_checked_before_any_work_even_when_deferred(tmp_path, monkeypatch):
+    scene, path, _ = _interrupted(tmp_path)
+    monkeypatch.setattr(nusselt.blocks, "run_blocks", lambda *a, **k: pytest.fail("computed"))
+    with pytest.raises(ValueError, match="already holds a run"):
+        nusselt.form_factors(scene, checkpoint=path, checkpoint_after=1e9)
+    (path / "manifest.json").unlink()
+    with pytest.raises(ValueError, match="no manifest.json"):
+        nusselt.form_factors(scene, checkpoint=path, checkpoint_after=1e9)
+
+
+def test_the_cli_writes_no_checkpoint_for_a_short_run_and_from_the_start_with_checkpoint(tmp_path, monkeypatch):
+    obj = tmp_path / "cube.obj"
+    polys, _ = cube_faces(4)
+    with open(obj, "w") as fh:
+        for p in polys:
+            fh.writelines(f"v {x!r} {y!r} {z!r}\n" for x, y, z in p.tolist())
+        fh.writelines("f " + " ".join(str(4 * k + i) for i in range(1, 5)) + "\n" for k in range(len(polys)))
+    saved = []
+    save = ck.Checkpoint.save
+    monkeypatch.setattr(ck.Checkpoint, "save", lambda self, *a: saved.append(self.path) or save(self, *a))
+    assert main(["matrix", str(obj), "-o", str(tmp_path / "a.npz"), "-q", "--block-size", "200"]) == 0
+    assert saved == [] and not (tmp_path / "a.npz.partial").exists()
+    d = tmp_path / "ck"
+    assert (
+        main(["matrix", str(obj), "-o", str(tmp_path / "b.npz"), "-q", "--block-size", "200", "--checkpoint", str(d)])
+        == 0
+    )
+    assert len(saved) >= 2 and set(saved) == {str(d)} and not d.exists()  # removed once the output is written
+    a, b = (nusselt.io.load_npz(tmp_path / f)["matrix"] for f in ("a.npz", "b.npz"))
+    assert np.array_equal(a.data, b.data) and np.array_equal(a.indices, b.indices)
+
+
+def test_holds_run_sees_a_manifest_blocks_or_a_zone_checkpoint_inside(tmp_path):
+    assert not ck.holds_run(tmp_path / "none")
+    (tmp_path / "empty").mkdir()
+    assert not ck.holds_run(tmp_path / "empty")
+    _run(_scene(3), tmp_path / "zones" / "zone0")  # as nusselt.zones lays out a building's run
+    assert ck.holds_run(tmp_path / "zones") and ck.holds_run(tmp_path / "zones" / "zone0")
+    (tmp_path / "zones" / "zone0" / "manifest.json").unlink()
+    assert ck.holds_run(tmp_path / "zones")  # stray blocks: refused when opened, before any work

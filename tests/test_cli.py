@@ -275,6 +275,7 @@ def test_sigkill_halfway_then_resume_gives_the_identical_matrix(tmp_path):
 
     out = tmp_path / "out.npz"
     partial = tmp_path / "out.npz.partial"
+    cmd += ["--checkpoint", str(partial)]  # from the first block: a short run is killed here
     p = subprocess.Popen(cmd + ["-o", str(out)], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     try:
         deadline = time.time() + 300

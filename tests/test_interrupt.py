@@ -5,6 +5,7 @@ without a checkpoint). Where the blocks are cut must change no value, so adaptiv
 stays resumable."""
 
 import os
+import re
 import signal
 import subprocess
 import sys
@@ -146,39 +147,54 @@ def test_overlapping_blocks_are_refused(tmp_path):
         c.close()
 
 
-def test_sigint_to_the_cli_keeps_finished_blocks_and_resume_is_identical(tmp_path):
-    """SIGINT to a running ``nusselt matrix`` (as Ctrl-C sends it): exit 130, a message
-    naming OUTPUT.partial and --resume, and the resumed matrix is the uninterrupted one."""
-    polys, _ = cube_faces(12)  # 864 patches: about a second of work
-    obj = tmp_path / "cube.obj"
-    with open(obj, "w") as fh:
+def _cube_obj(path, n):
+    polys, _ = cube_faces(n)
+    with open(path, "w") as fh:
         for p in polys:
             fh.writelines(f"v {x!r} {y!r} {z!r}\n" for x, y, z in p.tolist())
         fh.writelines("f " + " ".join(str(4 * k + i) for i in range(1, 5)) + "\n" for k in range(len(polys)))
-    cli = [sys.executable, "-c", "import sys; from nusselt.cli import main; sys.exit(main(sys.argv[1:]))", "matrix"]
+
+
+_CLI = [sys.executable, "-c", "import sys; from nusselt.cli import main; sys.exit(main(sys.argv[1:]))", "matrix"]
+
+
+def test_sigint_to_the_cli_keeps_finished_blocks_and_resume_is_identical(tmp_path):
+    """SIGINT to a running ``nusselt matrix`` (as Ctrl-C sends it) while its checkpoint is
+    still deferred (nothing on disk yet): exit 130, the finished blocks written to
+    OUTPUT.partial, a message naming it and --resume, and the resumed matrix is the
+    uninterrupted one."""
+    obj = tmp_path / "cube.obj"
+    _cube_obj(obj, 12)  # 864 patches: about a second of work
     ref, out = tmp_path / "ref.npz", tmp_path / "out.npz"
-    subprocess.run([*cli, str(obj), "-o", str(ref), "-q"], check=True, capture_output=True)
+    subprocess.run([*_CLI, str(obj), "-o", str(ref), "-q"], check=True, capture_output=True)
     partial = str(out) + ".partial"
-    p = subprocess.Popen([*cli, str(obj), "-o", str(out), "-q"], stderr=subprocess.PIPE, text=True)
+    # the progress bar (stderr) says when rows are done; nothing is on disk before 10 s
+    p = subprocess.Popen([*_CLI, str(obj), "-o", str(out)], stderr=subprocess.PIPE)
+    seen = b""
     try:
+        os.set_blocking(p.stderr.fileno(), False)
         deadline = time.monotonic() + 120
         while time.monotonic() < deadline and p.poll() is None:
-            if os.path.isdir(partial) and sum(f.startswith("block_") for f in os.listdir(partial)) >= 2:
+            seen += p.stderr.read() or b""
+            if re.search(rb"\| *[1-9][0-9]*/864 ", seen):
                 break
-            time.sleep(0.01)
+            time.sleep(0.005)
         if p.poll() is not None:
             pytest.skip("the run finished before it could be interrupted (a very fast machine)")
+        assert not os.path.exists(partial)  # deferred: nothing written yet
         p.send_signal(signal.SIGINT)
-        err = p.communicate(timeout=60)[1]
+        os.set_blocking(p.stderr.fileno(), True)
+        err = (seen + p.communicate(timeout=60)[1]).decode()
     finally:
         if p.poll() is None:
             p.kill()
     if p.returncode == 0:
         pytest.skip("the run finished before SIGINT arrived")
     assert p.returncode == 130, err
-    assert partial in err and "--resume" in err and "Traceback" not in err, err
-    assert sum(f.startswith("block_") for f in os.listdir(partial)) >= 2
-    subprocess.run([*cli, str(obj), "-o", str(out), "-q", "--resume"], check=True, capture_output=True)
+    last = err.strip().splitlines()[-1]
+    assert partial in last and "--resume" in last and "Traceback" not in err, err
+    assert sum(f.startswith("block_") for f in os.listdir(partial)) >= 1
+    subprocess.run([*_CLI, str(obj), "-o", str(out), "-q", "--resume"], check=True, capture_output=True)
     a, b = nusselt.io.load_npz(str(ref))["matrix"], nusselt.io.load_npz(str(out))["matrix"]
     assert np.array_equal(a.indptr, b.indptr) and np.array_equal(a.indices, b.indices)
     assert np.array_equal(a.data, b.data)

@@ -64,6 +64,65 @@ def test_npz_round_trip_sparse_dense_and_extras(tmp_path):
     assert not list(tmp_path.glob(".nusselt-*"))  # no temporary files left
 
 
+@pytest.mark.parametrize("compress", [False, True])
+@pytest.mark.parametrize("past_the_cache", [False, True])
+def test_npz_holds_what_np_savez_writes(tmp_path, monkeypatch, compress, past_the_cache):
+    """The writer streams each array into the zip itself (np.savez copied every 16 MiB) and a
+    big file past the page cache: the arrays read back are np.savez's, dtype and shape too."""
+    from nusselt.io import direct
+    from nusselt.io.writers import npz
+
+    monkeypatch.setattr(npz, "MIN_BYTES", 0 if past_the_cache else 1 << 60)
+    monkeypatch.setattr(npz, "CHUNK", 4096)  # arrays in several pieces
+    monkeypatch.setattr(direct, "CHUNK", 8192)
+    rng = np.random.default_rng(3)
+    m = sp.random_array((300, 300), density=0.2, format="csr", rng=rng)
+    p = tmp_path / "r.npz"
+    nio.write_npz(p, m, rng.uniform(1, 2, 300), [f"p{k}" for k in range(300)], compress=compress, info={"a": 1})
+    np.savez(tmp_path / "ref.npz", **dict(np.load(p)))
+    with np.load(p) as ours, np.load(tmp_path / "ref.npz") as ref:
+        assert ours.files == ref.files
+        for k in ref.files:
+            assert ours[k].dtype == ref[k].dtype and ours[k].shape == ref[k].shape, k
+            np.testing.assert_array_equal(ours[k], ref[k])
+    r = nio.load_npz(p)
+    assert (r["matrix"] != m).nnz == 0 and r["info"] == {"a": 1}
+    assert __import__("zipfile").ZipFile(p).testzip() is None  # every CRC right
+
+
+@pytest.mark.parametrize("way", ["direct", "no O_DIRECT", "refused at write"])
+@pytest.mark.parametrize("size", [0, 1, 4095, 8192, 8193, 3 * 8192 + 5])
+def test_direct_writer_writes_the_bytes_given(tmp_path, monkeypatch, way, size):
+    import errno
+    import os
+
+    from nusselt.io import direct
+
+    monkeypatch.setattr(direct, "CHUNK", 8192)
+    if way == "no O_DIRECT":
+        monkeypatch.delattr(os, "O_DIRECT", raising=False)
+    elif way == "refused at write":
+        real, calls = os.write, []
+
+        def write(fd, data):
+            calls.append(1)
+            if len(calls) == 1:
+                raise OSError(errno.EINVAL, "Invalid argument")
+            return real(fd, data)
+
+        monkeypatch.setattr(direct.os, "write", write)
+    data = np.random.default_rng(size).integers(0, 256, size, dtype=np.uint8).tobytes()
+    p = tmp_path / "f.bin"
+    p.write_bytes(b"old content, longer than some of the sizes" * 500)
+    w = direct.DirectWriter(p)
+    for s in range(0, size, 3000):  # pieces of another size than the chunks
+        assert w.write(data[s : s + 3000]) == len(data[s : s + 3000])
+        assert w.tell() == min(s + 3000, size)
+    w.close()
+    w.close()
+    assert p.read_bytes() == data
+
+
 def test_npz_errors(tmp_path):
     f, a = sample(3)
     with pytest.raises(ValueError, match="2 names for 3 rows"):

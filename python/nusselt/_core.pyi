@@ -10,6 +10,7 @@ __all__ = [
     "__version__",
     "SceneCore",
     "mirror_pairs",
+    "pair_reciprocity",
     "methods",
     "view_factor",
     "point_view_factor",
@@ -97,6 +98,11 @@ def mirror_pairs(
         ]
     ],
 ) -> tuple[npt.NDArray[np.int64], npt.NDArray[np.int32], npt.NDArray[np.float64], npt.NDArray[np.float64] | None]: ...
+def pair_reciprocity(
+    areas: npt.NDArray[np.float64],
+    blocks: list[tuple[npt.NDArray[np.int64], npt.NDArray[np.int64], npt.NDArray[np.int32], npt.NDArray[np.float64]]],
+    float32: bool,
+) -> float: ...
 def view_factor(
     a: npt.NDArray[np.float64],
     b: npt.NDArray[np.float64],

@@ -2,8 +2,10 @@
 
 from __future__ import annotations
 
+import functools
 import os
 import tempfile
+from collections.abc import Callable
 from typing import Any, Literal, overload
 
 import numpy as np
@@ -108,6 +110,7 @@ def form_factors(
     progress: bool = False,
     checkpoint: str | os.PathLike | None = None,
     resume: bool = False,
+    checkpoint_after: float = 0.0,
     block_size: int = 2_000_000,
     threshold: float = 0.0,
     dtype: type | np.dtype | str = np.float64,
@@ -135,6 +138,14 @@ def form_factors(
     checkpoint : path, optional
         Directory where finished row blocks are written as they complete; with ``resume=True``
         an interrupted run continues from there and gives the identical matrix.
+    checkpoint_after : float
+        Seconds (wall clock) of computing before ``checkpoint`` is first written (default 0:
+        from the first block). Until then finished blocks are only held in memory, so a run
+        that ends sooner writes no checkpoint at all; after it the held blocks and each later
+        one are written as they finish. A kill in that time loses at most those seconds of
+        work; Ctrl-C loses nothing (the finished blocks are written to ``checkpoint``). A
+        checkpoint directory that already holds a run is opened at once, and so is one for a
+        ``client`` run or a sparse ``threshold`` that drops pairs (blocks are not held whole).
     block_size : int
         The most work per block: upper-triangle pairs (pair methods) or row entries (row
         methods); it bounds a block's memory. Blocks are sized from the measured speed, small
@@ -176,6 +187,7 @@ def form_factors(
             progress=progress,
             checkpoint=checkpoint,
             resume=resume,
+            checkpoint_after=checkpoint_after,
             block_size=block_size,
             threshold=threshold,
             dtype=dtype,
@@ -199,12 +211,23 @@ def form_factors(
     col_of = np.full(len(scene), -1, dtype=np.int64)
     col_of[recv] = np.arange(nr)
 
+    if not (isinstance(checkpoint_after, (int, float)) and checkpoint_after >= 0.0):
+        raise ValueError(f"checkpoint_after must be a number of seconds >= 0, got {checkpoint_after!r}")
     run = _checkpoint.describe_run(scene, method, opts, kind)
-    ckpt = _checkpoint.Checkpoint(checkpoint, run, resume) if checkpoint is not None else None
+    ckpt: _checkpoint.Checkpoint | None = None
+    write_after: float | None = None
+    later: Callable[[], _checkpoint.Checkpoint]
+    if checkpoint is not None and checkpoint_after > 0 and client is None and not _checkpoint.holds_run(checkpoint):
+        # deferred: opened when first written (a run that ends sooner leaves nothing on disk)
+        later = functools.partial(_checkpoint.Checkpoint, checkpoint, run, False)
+        write_after = float(checkpoint_after)
+    else:
+        if checkpoint is not None:
+            ckpt = _checkpoint.Checkpoint(checkpoint, run, resume)
 
-    def rescue() -> _checkpoint.Checkpoint:
-        # Ctrl-C without a checkpoint: the finished blocks go to a fresh one (named in the message)
-        return _checkpoint.Checkpoint(tempfile.mkdtemp(prefix="nusselt-interrupted-"), run, resume=False)
+        def later() -> _checkpoint.Checkpoint:
+            # Ctrl-C without a checkpoint: the finished blocks go to a fresh one (named in the message)
+            return _checkpoint.Checkpoint(tempfile.mkdtemp(prefix="nusselt-interrupted-"), run, resume=False)
 
     # pair blocks lose their below-threshold pairs as they arrive (stored whole in the checkpoint)
     dropped_mass = np.zeros(len(scene))
@@ -238,7 +261,8 @@ def form_factors(
                 progress_bar=bar,
                 keep=keep,
                 threads=_threads(),
-                rescue=rescue,
+                later=later,
+                write_after=write_after,
             )
     finally:
         if bar is not None:

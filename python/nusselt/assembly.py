@@ -71,30 +71,12 @@ def canonical_csr(data: np.ndarray, idx: np.ndarray, indptr: np.ndarray, nr: int
 def pair_reciprocity(done: list[Block], scene_areas: np.ndarray, dtype=np.float64) -> float:
     """The reciprocity error max |A_i F_ij - A_j F_ji| / max(|A_i F_ij|, |A_j F_ji|) of the
     matrix the mirror will build from these upper-triangle blocks, from the blocks themselves
-    (the same divisions, F_ij = G_ij / A_i and F_ji = G_ij / A_j, and the same rounding to
-    ``dtype``), so it needs no transpose of the result; :mod:`nusselt.trust` computes the same
-    measure from any matrix, and a test checks they agree."""
-    worst = 0.0
-    for b in done:
-        if b.data.size == 0:
-            continue
-        area_i = np.repeat(scene_areas[b.rows], np.diff(b.indptr))
-        for s in range(0, b.data.size, _CHUNK):  # bounded temporaries
-            g, ai = b.data[s : s + _CHUNK], area_i[s : s + _CHUNK]
-            aj = scene_areas[b.indices[s : s + _CHUNK]]
-            g1, g2 = g / ai, g / aj  # F_ij, F_ji as the mirror divides
-            if np.dtype(dtype) != np.float64:
-                g1, g2 = g1.astype(dtype).astype(np.float64), g2.astype(dtype).astype(np.float64)
-            g1 *= ai  # A_i F_ij
-            g2 *= aj  # A_j F_ji
-            diff = np.abs(g1 - g2)
-            den = np.maximum(np.abs(g1, out=g1), np.abs(g2, out=g2), out=g1)
-            np.divide(diff, den, out=diff, where=den > 0)  # 0 where both are 0 (diff is 0 there)
-            worst = max(worst, float(diff.max()))
-    return worst
-
-
-_CHUNK = 1 << 18
+    in the core (the same divisions, F_ij = G_ij / A_i and F_ji = G_ij / A_j, and the same
+    rounding to ``dtype``), so it needs no transpose of the result; :mod:`nusselt.trust`
+    computes the same measure from any matrix, and a test checks they agree."""
+    blocks = [(b.rows, b.indptr, np.asarray(b.indices, dtype=np.int32), b.data) for b in done if b.data.size]
+    areas = np.ascontiguousarray(scene_areas, dtype=np.float64)
+    return _core.pair_reciprocity(areas, blocks, np.dtype(dtype) == np.float32)
 
 
 def assemble_pairs(done: list[Block], col_of: np.ndarray, areas: np.ndarray, dtype=np.float64):

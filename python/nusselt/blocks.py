@@ -126,22 +126,47 @@ def run_blocks(
     progress_bar: Any = None,
     keep: Callable[[Block], Block] | None = None,
     threads: int = 1,
-    rescue: Callable[[], Checkpoint | None] | None = None,
+    later: Callable[[], Checkpoint] | None = None,
+    write_after: float | None = None,
 ) -> list[Block]:
     """Computes every block (those the checkpoint holds are loaded instead), sized by
     :class:`Sizer`, each saved to the checkpoint as it finishes; returns the Blocks in row
     order, each passed through ``keep`` first if given (e.g. a sparse threshold: only what is
     kept stays in memory; the checkpoint holds the block as computed).
 
-    On KeyboardInterrupt without a checkpoint, ``rescue`` (if given) makes one and the
-    finished blocks are written there; the KeyboardInterrupt raised then names the directory."""
+    Without an open ``checkpoint``, ``later`` opens one when it is needed, and the finished
+    blocks are held until then:
+
+    * ``write_after`` seconds (wall clock) into the computing, if given (a deferred
+      checkpoint: a run that ends sooner writes none). From then on every block is written
+      as it finishes, the held ones first; the deferral also ends as soon as ``keep`` drops
+      part of a block (holding blocks whole beside what is kept would double their memory).
+    * On KeyboardInterrupt: the finished blocks are written there and the KeyboardInterrupt
+      raised names the directory. Without ``write_after`` (a rescue only), this stops as soon
+      as ``keep`` drops part of a block: nothing whole is held any more.
+
+    A checkpoint this function opens it also closes."""
     n = len(recv)
     finished = checkpoint.load_all(recv) if checkpoint is not None else []
     sizer = Sizer(n, kind, block_size, threads)
     done: list[Block] = []
-    raw: list[tuple[int, int, Block]] = []  # finished blocks as computed, for a rescue
+    held: list[tuple[int, int, Block]] = []  # finished blocks as computed, not yet written
+    opened: Checkpoint | None = None
     pos, nxt = 0, 0
     index = checkpoint.next_index() if checkpoint is not None else 0
+    began = time.perf_counter()
+
+    def open_later() -> Checkpoint:
+        nonlocal checkpoint, opened, later, index
+        assert later is not None
+        checkpoint = opened = later()
+        later = None
+        index = checkpoint.next_index()
+        while held:
+            checkpoint.save(index, *held.pop(0))
+            index += 1
+        return checkpoint
+
     try:
         while pos < n:
             if nxt < len(finished) and finished[nxt][0] == pos:
@@ -152,35 +177,42 @@ def run_blocks(
                 start, stop = pos, sizer.stop(pos, limit)
                 t0 = time.perf_counter()
                 b = compute(np.ascontiguousarray(recv[start:stop], dtype=np.int64))
-                sizer.observe(start, stop, time.perf_counter() - t0)
+                t1 = time.perf_counter()
+                sizer.observe(start, stop, t1 - t0)
+                if checkpoint is None and later is not None and write_after is not None and t1 - began >= write_after:
+                    open_later()
                 if checkpoint is not None:
                     checkpoint.save(index, start, stop, b)
                     index += 1
-                elif rescue is not None:
-                    raw.append((start, stop, b))
+                elif later is not None:
+                    held.append((start, stop, b))
             kept = keep(b) if keep is not None else b
-            if raw and kept is not b:
-                raw.clear()  # what keep dropped is gone: nothing whole to rescue
-                rescue = None
+            if held and kept is not b:  # what keep dropped would be held whole
+                if write_after is not None:
+                    open_later()
+                else:
+                    held.clear()  # a rescue only: nothing whole to rescue
+                    later = None
             done.append(kept)
             pos = stop
             if progress_bar is not None:
                 progress_bar.update(stop - start)
     except KeyboardInterrupt:
+        if later is not None and held:
+            deferred = write_after is not None
+            saved = open_later()
+            if not deferred:
+                raise KeyboardInterrupt(
+                    f"interrupted: the {pos} of {n} rows finished were saved to checkpoint {saved.path}; "
+                    f"the same call with checkpoint={saved.path!r}, resume=True continues from there"
+                ) from None
         if checkpoint is not None and pos > 0:
             raise KeyboardInterrupt(
                 f"interrupted: {pos} of {n} rows finished are kept in checkpoint {checkpoint.path}; "
                 "resume=True (CLI: --resume) continues from there"
             ) from None
-        if rescue is not None and raw:
-            saved = rescue()
-            if saved is not None:
-                for k, (start, stop, b) in enumerate(raw):
-                    saved.save(k, start, stop, b)
-                saved.close()
-                raise KeyboardInterrupt(
-                    f"interrupted: the {pos} of {n} rows finished were saved to checkpoint {saved.path}; "
-                    f"the same call with checkpoint={saved.path!r}, resume=True continues from there"
-                ) from None
         raise
+    finally:
+        if opened is not None:
+            opened.close()
     return done

@@ -106,6 +106,21 @@ def what_changed(old: dict, new: dict) -> str:
     return ", ".join(out) or "nothing visible (the manifest's digest does not match its description)"
 
 
+def holds_run(path: str | os.PathLike) -> bool:
+    """Whether ``path`` holds anything of a run (a manifest or block files, or a directory
+    that does, as a zone's of :mod:`nusselt.zones`): such a directory is opened, checked or
+    refused, before any work; otherwise it may be created later."""
+    path = os.fspath(path)
+    if not os.path.isdir(path):
+        return os.path.exists(path)  # a file there: Checkpoint refuses it at once
+    return any(
+        f == MANIFEST
+        or (f.startswith("block_") and f.endswith(".npz"))
+        or (os.path.isdir(os.path.join(path, f)) and holds_run(os.path.join(path, f)))
+        for f in os.listdir(path)
+    )
+
+
 class Checkpoint:
     """A directory of finished blocks plus a manifest naming the run they belong to.
 

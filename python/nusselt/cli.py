@@ -121,6 +121,12 @@ def cmd_methods(args) -> int:
     return 0
 
 
+#: Seconds a ``nusselt matrix`` run computes before its checkpoint is first written (unless
+#: ``--checkpoint DIR`` asks for it from the start): a run that ends sooner writes none, and a
+#: kill before then loses at most these seconds of work (Ctrl-C loses nothing).
+CHECKPOINT_AFTER = 10.0
+
+
 def cmd_matrix(args) -> int:
     import os
     import shutil
@@ -151,10 +157,13 @@ def cmd_matrix(args) -> int:
     n = len(scene.receivers)
     if fmt == "csv" and not args.surfaces:
         _check_size(args.output, n, MAX_DENSE_ROWS, "CSV")  # the writer's check, before any work
-    partial = args.output + ".partial"
-    if os.path.exists(partial) and not args.resume:
-        raise ValueError(f"{partial} holds an interrupted run: add --resume to continue it, or remove it")
     from . import budget
+    from .checkpoint import holds_run, remove_dir
+
+    partial = args.checkpoint or args.output + ".partial"
+    if holds_run(partial) and not args.resume:
+        raise ValueError(f"{partial} holds an interrupted run: add --resume to continue it, or remove it")
+    created = not os.path.exists(partial)
 
     dtype = "float32" if args.float32 else "float64"
     method_info, _ = resolve(args.method, dict(opts))
@@ -197,6 +206,7 @@ def cmd_matrix(args) -> int:
             progress=not args.quiet,
             checkpoint=partial,
             resume=args.resume,
+            checkpoint_after=0.0 if args.checkpoint else CHECKPOINT_AFTER,
             block_size=args.block_size,
             threshold=args.threshold,
             **run_opts,
@@ -206,7 +216,7 @@ def cmd_matrix(args) -> int:
     except BaseException as e:
         # keep finished blocks for --resume; a run that finished none leaves nothing behind
         kept = sum(f.startswith("block_") for _, _, fs in os.walk(partial) for f in fs) if os.path.isdir(partial) else 0
-        if os.path.isdir(partial) and not kept:
+        if created and os.path.isdir(partial) and not kept:
             shutil.rmtree(partial, ignore_errors=True)
         if isinstance(e, KeyboardInterrupt) and kept:
             raise KeyboardInterrupt(
@@ -224,8 +234,6 @@ def cmd_matrix(args) -> int:
     write_result(
         args.output, res, scene=scene, to_surface=args.to_surface, zone_name=args.zone_name, compress=args.compress
     )
-    from .checkpoint import remove_dir
-
     remove_dir(partial)  # the manifest last: a Ctrl-C here leaves a checkpoint that resumes
     print(res.summary())
     print(f"written {args.output}")
@@ -346,8 +354,12 @@ def build_parser() -> argparse.ArgumentParser:
         "matrix",
         help="compute the form-factor matrix of a scene file",
         description="Computes F[i, j] (row = source) for every pair of polygons of a scene file and writes "
-        "it in the format given by the output's extension. Finished row blocks are kept in OUTPUT.partial "
-        "while the run goes on, so an interrupted run continues with --resume and loses no finished work.",
+        "it in the format given by the output's extension. Checkpoint: from the "
+        f"{CHECKPOINT_AFTER:g}th second of computing on, finished row blocks are kept in OUTPUT.partial "
+        "(or --checkpoint DIR, from the first block) as they finish, so an interrupted run continues with "
+        "--resume; a run that ends sooner writes no checkpoint. Ctrl-C loses no finished work (it writes "
+        f"the finished blocks first); a kill loses at most the first {CHECKPOINT_AFTER:g} seconds "
+        "(none with --checkpoint).",
         epilog="output formats: .npz (sparse matrix, areas, names, row sums, errors; read it with "
         "nusselt.io.load_npz), .csv (dense table), .txt (View3D text output), .idf / .epJSON (EnergyPlus "
         "ZoneProperty:UserViewFactors:BySurfaceName, per surface, one object per zone, all pairs), "
@@ -395,7 +407,13 @@ def build_parser() -> argparse.ArgumentParser:
     m.add_argument(
         "--resume",
         action="store_true",
-        help="continue an interrupted run from OUTPUT.partial (finished blocks are kept)",
+        help="continue an interrupted run from OUTPUT.partial or --checkpoint DIR (finished blocks are kept)",
+    )
+    m.add_argument(
+        "--checkpoint",
+        metavar="DIR",
+        help="keep finished row blocks in DIR from the first block on (default: OUTPUT.partial, written "
+        f"only once the run has computed for {CHECKPOINT_AFTER:g} s); removed when the output is written",
     )
     m.add_argument(
         "--block-size",

@@ -70,7 +70,9 @@ def zone_form_factors(scene: Scene, *, zones: list[str] | None = None, checkpoin
     """Patch-level form factors computed zone by zone (block diagonal).
 
     ``zones`` selects zones by name (default: all); ``checkpoint`` (a directory) keeps each
-    zone's finished blocks in its own subdirectory ``zone<k>``; every other keyword goes to
+    zone's finished blocks in its own subdirectory ``zone<k>``, written from the first block
+    when there is more than one zone (a deferral, ``checkpoint_after``, would count each zone
+    alone and could lose every zone finished before a kill); every other keyword goes to
     :func:`nusselt.form_factors`. Rows and columns are the chosen zones' receiving faces in
     scene order; ``faces``, ``surface`` and ``surface_names`` refer to the whole scene, so
     ``by_surface()`` gives the per-surface matrix of those zones.
@@ -81,13 +83,14 @@ def zone_form_factors(scene: Scene, *, zones: list[str] | None = None, checkpoin
     chosen = list(by_zone) if zones is None else [select_zone(scene, z) for z in zones]
     if not chosen:
         raise ValueError(f"{scene.source or 'scene'}: no zones to compute")
+    if len(chosen) > 1:
+        kwargs["checkpoint_after"] = 0.0
     parts = []
     for z in chosen:
         faces = by_zone[z]
         sub = zone_scene(scene, faces)
         ck = None
-        if checkpoint is not None:
-            os.makedirs(checkpoint, exist_ok=True)
+        if checkpoint is not None:  # the Checkpoint makes the directories when it is opened
             ck = os.path.join(os.fspath(checkpoint), f"zone{list(by_zone).index(z)}")
         res = form_factors(sub, checkpoint=ck, **kwargs)
         parts.append((z, faces[res.faces], res))

@@ -361,6 +361,37 @@ pub fn mirror_upper(areas: &[f64], rows: &[UpperRow<'_>], with_std: bool) -> Res
     Ok((Csr { indptr: count, indices, data }, std))
 }
 
+/// The reciprocity error max |A_i F_ij - A_j F_ji| / max(|A_i F_ij|, |A_j F_ji|) of the F
+/// that [`mirror_upper`] builds from these rows (F_ij = G_ij / A_i, F_ji = G_ij / A_j, each
+/// rounded to f32 first when `as_f32`, as a float32 result stores them), from the upper
+/// triangle itself: no transpose of the result. Pairs where both are 0 count as 0.
+pub fn upper_reciprocity(areas: &[f64], rows: &[UpperRow<'_>], as_f32: bool) -> Result<f64> {
+    let n = areas.len();
+    for r in rows {
+        if r.row >= n || r.cols.len() != r.g.len() || r.cols.iter().any(|&j| j < 0 || j as usize >= n) {
+            return Err(Error::InvalidArgument(format!("row {}: an index out of range, or counts differ", r.row)));
+        }
+    }
+    let worst = |r: &UpperRow<'_>| {
+        let ai = areas[r.row];
+        let mut w = 0.0f64;
+        for (&j, &g) in r.cols.iter().zip(r.g) {
+            let aj = areas[j as usize];
+            let (mut fi, mut fj) = (g / ai, g / aj);
+            if as_f32 {
+                (fi, fj) = (fi as f32 as f64, fj as f32 as f64);
+            }
+            let (x, y) = (fi * ai, fj * aj);
+            let den = x.abs().max(y.abs());
+            if den > 0.0 {
+                w = w.max((x - y).abs() / den);
+            }
+        }
+        w
+    };
+    Ok(rows.par_iter().map(worst).reduce(|| 0.0, f64::max))
+}
+
 /// dst = src / a, entry by entry (G over the row's area: F).
 fn divide_into(dst: &mut [f64], src: &[f64], a: f64) {
     for (d, &v) in dst.iter_mut().zip(src) {
@@ -447,6 +478,31 @@ mod tests {
         let twice =
             [UpperRow { row: 0, cols: &[], g: &[], std: None }, UpperRow { row: 0, cols: &[], g: &[], std: None }];
         assert!(mirror_upper(&areas, &twice, false).is_err());
+    }
+
+    #[test]
+    fn upper_reciprocity_is_the_largest_relative_difference_of_a_i_f_ij_and_a_j_f_ji() {
+        // by the definition, entry by entry: A_i (G / A_i) against A_j (G / A_j)
+        let areas = [0.1, 3.0, 7.0, 1e-3];
+        let (c0, g0) = ([1i32, 2, 3], [0.3, 0.7, 1e-5]);
+        let (c1, g1) = ([2i32], [2.2]);
+        let rows =
+            [UpperRow { row: 0, cols: &c0, g: &g0, std: None }, UpperRow { row: 1, cols: &c1, g: &g1, std: None }];
+        for as_f32 in [false, true] {
+            let mut want = 0.0f64;
+            for r in &rows {
+                for (&j, &g) in r.cols.iter().zip(r.g) {
+                    let (ai, aj) = (areas[r.row], areas[j as usize]);
+                    let round = |f: f64| if as_f32 { f as f32 as f64 } else { f };
+                    let (x, y) = (round(g / ai) * ai, round(g / aj) * aj);
+                    want = want.max((x - y).abs() / x.abs().max(y.abs()));
+                }
+            }
+            assert_eq!(upper_reciprocity(&areas, &rows, as_f32).unwrap(), want);
+        }
+        assert!(upper_reciprocity(&areas, &rows, true).unwrap() > 1e-9); // float32 rounding shows
+        let bad = [UpperRow { row: 0, cols: &[9i32], g: &[1.0], std: None }];
+        assert!(upper_reciprocity(&areas, &bad, false).is_err());
     }
 
     #[test]

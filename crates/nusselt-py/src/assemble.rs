@@ -2,7 +2,7 @@
 //! (numpy/scipy would concatenate, transpose and merge: several copies of every entry).
 use crate::errors::guard;
 use numpy::{IntoPyArray, PyArray1, PyReadonlyArray1};
-use nusselt_core::matrix::{mirror_upper, UpperRow};
+use nusselt_core::matrix::{mirror_upper, upper_reciprocity, UpperRow};
 use nusselt_core::Error;
 use pyo3::prelude::*;
 use std::borrow::Cow;
@@ -96,4 +96,38 @@ pub fn mirror_pairs<'py>(
         f.data.into_pyarray(py),
         sd.map(|s| s.data.into_pyarray(py)),
     ))
+}
+
+type Upper<'py> =
+    (PyReadonlyArray1<'py, i64>, PyReadonlyArray1<'py, i64>, PyReadonlyArray1<'py, i32>, PyReadonlyArray1<'py, f64>);
+
+/// The reciprocity error of the F that `mirror_pairs` builds from these blocks of (rows,
+/// indptr, columns, G), rounded to float32 first when `float32`; `areas` and the blocks' rows
+/// and columns by scene index.
+#[pyfunction]
+pub fn pair_reciprocity(
+    py: Python<'_>,
+    areas: PyReadonlyArray1<'_, f64>,
+    blocks: Vec<Upper<'_>>,
+    float32: bool,
+) -> PyResult<f64> {
+    let areas = areas.as_slice()?;
+    let mut rows: Vec<UpperRow> = Vec::new();
+    for (b, (r, indptr, indices, data)) in blocks.iter().enumerate() {
+        let (r, indptr, indices, data) = (r.as_slice()?, indptr.as_slice()?, indices.as_slice()?, data.as_slice()?);
+        let bad = || pyo3::exceptions::PyValueError::new_err(format!("block {b}: inconsistent CSR parts"));
+        if indptr.len() != r.len() + 1 || indices.len() != data.len() {
+            return Err(bad());
+        }
+        for (k, &row) in r.iter().enumerate() {
+            let (s, e) = (indptr[k], indptr[k + 1]);
+            if s < 0 || s > e || e as usize > indices.len() || row < 0 {
+                return Err(bad());
+            }
+            let (s, e) = (s as usize, e as usize);
+            rows.push(UpperRow { row: row as usize, cols: &indices[s..e], g: &data[s..e], std: None });
+        }
+    }
+    let pool = crate::threads::pool();
+    py.detach(|| guard(|| pool.install(|| upper_reciprocity(areas, &rows, float32))))
 }

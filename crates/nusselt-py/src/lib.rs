@@ -16,6 +16,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add_class::<scene::SceneCore>()?;
     m.add_function(wrap_pyfunction!(assemble::mirror_pairs, m)?)?;
+    m.add_function(wrap_pyfunction!(assemble::pair_reciprocity, m)?)?;
     m.add_function(wrap_pyfunction!(options::methods, m)?)?;
     m.add_function(wrap_pyfunction!(pair::view_factor, m)?)?;
     m.add_function(wrap_pyfunction!(pair::point_view_factor, m)?)?;

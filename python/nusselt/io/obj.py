@@ -83,98 +83,167 @@ def read_obj(path: str) -> SceneData:
     follow; faces before any name belong to ``"default"``), comments, ``\\`` line
     continuations and CRLF line ends. ``usemtl``, texture and normal data, lines and points
     are ignored; free-form curves/surfaces are refused.
+
+    The lines are only sorted by statement as they are read; the numbers of all ``v`` and
+    ``f`` statements are then converted and checked at once, with numpy. The error raised is
+    the one for the first bad line, as a reader that checks line by line would find it.
     """
     path = str(path)
     check_readable(path)
 
-    coords: list[tuple[float, float, float]] = []
+    vtext: list[str] = []  # each vertex's line, split in vparts, its number in vline
+    vparts: list[list[str]] = []
     vline: list[int] = []
-    faces: list[list[int]] = []
-    origin: list[str] = []
+    ftext: list[list[str]] = []  # each face's statement, split; its line in fline
+    fline: list[int] = []
+    fseen: list[int] = []  # vertices defined before each face (relative indices count back from there)
     face_surface: list[int] = []
     names: dict[str, int] = {}
     current: str | None = None
+    stop: ValueError | None = None  # the loop's own refusal: raised unless an earlier line is bad
 
-    for no, line in _logical_lines(path, text_lines(path, "text OBJ")):
-        parts = line.split()
-        if not parts:
-            continue
-        key = parts[0]
-        where = f"line {no}"
-        if key == "v":
-            if len(parts) < 4:
-                raise parse_error(path, where, f"a vertex needs x y z, got {line.strip()!r}")
-            try:
-                xyz = (float(parts[1]), float(parts[2]), float(parts[3]))
-            except ValueError:
-                raise parse_error(path, where, f"bad number in vertex {line.strip()!r}") from None
-            if not all(np.isfinite(xyz)):
-                raise parse_error(path, where, f"vertex has a NaN or infinite coordinate: {line.strip()!r}")
-            coords.append(xyz)
-            vline.append(no)
-        elif key == "f" or key == "fo":
-            if len(parts) < 4:
-                raise parse_error(path, where, f"a face needs at least 3 vertices, got {len(parts) - 1}")
-            idx = []
-            nv = len(coords)
-            for tok in parts[1:]:
-                head = tok.split("/", 1)[0]
-                try:
-                    i = int(head)
-                except ValueError:
-                    raise parse_error(path, where, f"bad vertex index {tok!r} in face") from None
-                if i == 0:
-                    raise parse_error(path, where, "vertex index 0 in face (OBJ indices start at 1)")
-                if i < 0:
-                    # Relative index: -1 is the most recently defined vertex.
-                    if -i > nv:
-                        raise parse_error(
-                            path,
-                            where,
-                            f"face refers to vertex {i} (relative), but only {nv} vertices are defined so far",
-                        )
-                    i = nv + i
-                else:
-                    i -= 1
-                idx.append(i)
-            if current is None:
-                current = DEFAULT_SURFACE
-                names.setdefault(current, len(names))
-            faces.append(idx)
-            origin.append(where)
-            face_surface.append(names[current])
-        elif key in ("o", "g"):
-            name = " ".join(parts[1:]) or DEFAULT_SURFACE
-            current = name
-            names.setdefault(name, len(names))
-        elif key in _IGNORED:
-            continue
-        elif key in _FREEFORM:
-            raise parse_error(
-                path,
-                where,
-                f"free-form geometry ({key!r}) is not supported; export polygons (triangles, quads or n-gons)",
-            )
-        else:
-            raise parse_error(path, where, f"unknown OBJ statement {key!r}")
+    try:
+        for no, line in _logical_lines(path, text_lines(path, "text OBJ")):
+            parts = line.split()
+            if not parts:
+                continue
+            key = parts[0]
+            if key == "v":
+                vtext.append(line)
+                vparts.append(parts)
+                vline.append(no)
+            elif key == "f" or key == "fo":
+                if current is None:
+                    current = DEFAULT_SURFACE
+                    names.setdefault(current, len(names))
+                ftext.append(parts)
+                fline.append(no)
+                fseen.append(len(vline))
+                face_surface.append(names[current])
+            elif key in ("o", "g"):
+                name = " ".join(parts[1:]) or DEFAULT_SURFACE
+                current = name
+                names.setdefault(name, len(names))
+            elif key in _IGNORED:
+                continue
+            elif key in _FREEFORM:
+                stop = parse_error(
+                    path,
+                    f"line {no}",
+                    f"free-form geometry ({key!r}) is not supported; export polygons (triangles, quads or n-gons)",
+                )
+                break
+            else:
+                stop = parse_error(path, f"line {no}", f"unknown OBJ statement {key!r}")
+                break
+    except ValueError as e:  # from the line reader (NUL byte, overlong line), after every line read
+        stop = e
 
-    if not faces:
+    vertices, vbad = _vertices(path, vtext, vparts, vline)
+    index, starts, fbad = _faces(path, ftext, fline, fseen)
+    first = min((e for e in (vbad, fbad) if e is not None), key=lambda e: e[0], default=None)
+    if first is not None:
+        raise first[1]
+    if stop is not None:
+        raise stop
+    if not ftext:
         raise parse_error(path, None, "no faces ('f' statements) found")
-    nv = len(coords)
-    for k, f in enumerate(faces):
-        m = max(f)
-        if m >= nv:
-            raise parse_error(path, origin[k], f"face refers to vertex {m + 1}, but only {nv} vertices are defined")
+    nv = len(vertices)
+    top = np.maximum.reduceat(index, starts[:-1])
+    if top.size and top.max() >= nv:
+        k = int(np.argmax(top >= nv))
+        raise parse_error(
+            path, f"line {fline[k]}", f"face refers to vertex {top[k] + 1}, but only {nv} vertices are defined"
+        )
     # Names that only appear before other names and own no faces are dropped.
-    used = sorted(set(face_surface))
-    remap = {old: new for new, old in enumerate(used)}
+    surface = np.array(face_surface, dtype=np.int64)
+    used = np.unique(surface)
+    remap = np.zeros(len(names), dtype=np.int64)
+    remap[used] = np.arange(len(used))
     all_names = list(names)
     return SceneData(
-        vertices=np.array(coords, dtype=np.float64).reshape(-1, 3),
-        faces=[np.array(f, dtype=np.int64) for f in faces],
-        surface=np.array([remap[s] for s in face_surface], dtype=np.int64),
+        vertices=vertices,
+        faces=np.split(index, starts[1:-1]),
+        surface=remap[surface],
         names=[all_names[old] for old in used],
-        origin=origin,
+        origin=[f"line {no}" for no in fline],
         source=path,
         meta={"format": "obj"},
     )
+
+
+def _vertices(path: str, text: list[str], parts: list[list[str]], line: list[int]):
+    """(V, 3) coordinates of the ``v`` lines (split in ``parts``), and (line, error) of the first
+    bad one or None."""
+    ok = np.fromiter(map(len, parts), dtype=np.int64, count=len(parts)) >= 4
+    flat = [x for p in parts for x in p[1:4]] if ok.all() else []
+    xyz = np.zeros((0, 3))
+    try:
+        xyz = np.fromiter(map(float, flat), dtype=np.float64, count=len(flat)).reshape(-1, 3)
+        if len(xyz) == len(text) and np.isfinite(xyz).all():
+            return xyz, None
+    except ValueError:
+        pass
+    for k, p in enumerate(parts):  # a bad line (error path only): the first, checked as it reads
+        where, stated = f"line {line[k]}", text[k].strip()
+        if len(p) < 4:
+            return xyz, (line[k], parse_error(path, where, f"a vertex needs x y z, got {stated!r}"))
+        try:
+            row = [float(x) for x in p[1:4]]
+        except ValueError:
+            return xyz, (line[k], parse_error(path, where, f"bad number in vertex {stated!r}"))
+        if not np.isfinite(row).all():
+            return xyz, (line[k], parse_error(path, where, f"vertex has a NaN or infinite coordinate: {stated!r}"))
+    raise AssertionError("unreachable: a vertex line was bad")
+
+
+def _faces(path: str, parts: list[list[str]], line: list[int], seen: list[int]):
+    """(vertex indices of every face, one after another; where each face starts, with the
+    end last; (line, error) of the first bad face or None). Relative indices count back from
+    the vertices ``seen`` before the face."""
+    nf = len(parts)
+    counts = np.fromiter(map(len, parts), dtype=np.int64, count=nf) - 1
+    starts = np.zeros(nf + 1, dtype=np.int64)
+    np.cumsum(counts, out=starts[1:])
+    tokens = [t for p in parts for t in p[1:]]
+    heads = [t.split("/", 1)[0] for t in tokens]
+    try:
+        raw = np.array(list(map(int, heads)), dtype=np.int64)
+        unreadable = np.zeros(raw.size, dtype=bool)
+    except (ValueError, OverflowError):  # error path only: which ones
+        raw, unreadable = _ints(heads)
+    before = np.repeat(np.asarray(seen, dtype=np.int64), counts)
+    index = np.where(raw < 0, before + raw, raw - 1)
+    # per token, in the order a line-by-line reader checks: unreadable, 0, relative too far back
+    problem = unreadable | (raw == 0) | (-raw > before)
+    short = counts < 3
+    if not (problem.any() or short.any()):
+        return index, starts, None
+    token_face = np.repeat(np.arange(nf), counts)
+    problem &= ~short[token_face]  # a face with too few vertices says so first
+    faces_bad = short.copy()
+    faces_bad[token_face[problem]] = True
+    k = int(np.argmax(faces_bad))
+    where = f"line {line[k]}"
+    if short[k]:
+        return index, starts, (line[k], parse_error(path, where, f"a face needs at least 3 vertices, got {counts[k]}"))
+    t = int(starts[k] + np.argmax(problem[starts[k] : starts[k + 1]]))
+    if unreadable[t]:
+        why = f"bad vertex index {tokens[t]!r} in face"
+    elif raw[t] == 0:
+        why = "vertex index 0 in face (OBJ indices start at 1)"
+    else:
+        why = f"face refers to vertex {raw[t]} (relative), but only {before[t]} vertices are defined so far"
+    return index, starts, (line[k], parse_error(path, where, why))
+
+
+def _ints(texts: list[str]) -> tuple[np.ndarray, np.ndarray]:
+    """Integers of ``texts`` (1 where unreadable) and which were unreadable."""
+    out = np.ones(len(texts), dtype=np.int64)
+    bad = np.zeros(len(texts), dtype=bool)
+    for k, t in enumerate(texts):
+        try:
+            out[k] = int(t)
+        except (ValueError, OverflowError):
+            bad[k] = True
+    return out, bad

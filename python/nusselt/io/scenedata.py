@@ -124,6 +124,18 @@ def starts_with(path: str, char: bytes) -> bool:
     return False
 
 
+def first_bad_face(faces: list[np.ndarray], nv: int) -> int | None:
+    """The first of ``faces`` (1-D integer arrays) with fewer than 3 vertices or a vertex
+    index outside ``0 .. nv - 1``, or None: all faces checked at once."""
+    sizes = np.fromiter(map(len, faces), dtype=np.int64, count=len(faces))
+    bad = sizes < 3
+    flat = np.concatenate(faces) if len(faces) else np.zeros(0, dtype=np.int64)
+    outside = (flat < 0) | (flat >= nv)
+    if outside.any():
+        bad[np.repeat(np.arange(len(faces)), sizes)[outside]] = True
+    return int(np.argmax(bad)) if bad.any() else None
+
+
 @dataclass(kw_only=True)
 class SceneData:
     """Polygons with named surfaces, as read from a file.
@@ -184,15 +196,16 @@ class SceneData:
         bad = np.flatnonzero(~np.isfinite(self.vertices).all(axis=1))
         if bad.size:
             raise parse_error(src, f"vertex {bad[0] + 1}", "NaN or infinite coordinate")
-        for k, f in enumerate(self.faces):
+        k = first_bad_face(self.faces, nv)
+        if k is not None:
+            f = self.faces[k]
             if f.size < 3:
                 raise parse_error(src, self.origin[k], f"a polygon needs at least 3 vertices, this one has {f.size}")
-            if f.min() < 0 or f.max() >= nv:
-                raise parse_error(
-                    src,
-                    self.origin[k],
-                    f"polygon refers to vertex {int(f.max()) + 1}, but only {nv} vertices are defined",
-                )
+            raise parse_error(
+                src,
+                self.origin[k],
+                f"polygon refers to vertex {int(f.max()) + 1}, but only {nv} vertices are defined",
+            )
         if self.emissivity is not None:
             self.emissivity = np.asarray(self.emissivity, dtype=np.float64).ravel()
             if self.emissivity.shape != (len(self.names),):

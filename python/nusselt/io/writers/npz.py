@@ -4,14 +4,15 @@ from __future__ import annotations
 
 import json
 import os
-from collections.abc import Callable
-from typing import Any
+from typing import IO, Any
 
 import numpy as np
 
 from ..._sparse import issparse
+from ..atomic import atomic_path
+from ..direct import CHUNK, MIN_BYTES, DirectWriter
 from ..scenedata import check_readable, parse_error
-from ._common import _areas, _atomic, _csr, _names, _square, field
+from ._common import _areas, _csr, _names, _square, field
 
 NPZ_FORMAT = "nusselt-form-factors"
 NPZ_VERSION = 1
@@ -62,10 +63,40 @@ def write_npz(path, matrix, areas, names, *, compress: bool = False, **extra_arr
             if a.dtype == object:
                 a = np.array([str(x) for x in a.ravel()], dtype=str).reshape(a.shape)
             arrays[key] = a
-    # Callable[..., None]: numpy's stubs reject ``**arrays`` as it could hold ``allow_pickle``.
-    save: Callable[..., None] = np.savez_compressed if compress else np.savez
-    with _atomic(path, "wb") as fh:
-        save(fh, **arrays)
+    _save_npz(path, arrays, compress)
+
+
+def _save_npz(path: str, arrays: dict[str, np.ndarray], compress: bool) -> None:
+    """The file ``np.savez`` (``np.savez_compressed``) writes, a zip of ``.npy`` files, written
+    atomically; each array's bytes go to the zip as they are (``np.savez`` copies every 16 MiB
+    of them first), and a big file past the page cache (:mod:`nusselt.io.direct`)."""
+    import zipfile
+
+    big = sum(a.nbytes for a in arrays.values()) >= MIN_BYTES
+    with atomic_path(path) as tmp:
+        fh: IO[bytes] = DirectWriter(tmp) if big else open(tmp, "wb")  # type: ignore[assignment]
+        mode = zipfile.ZIP_DEFLATED if compress else zipfile.ZIP_STORED
+        with fh, zipfile.ZipFile(fh, "w", compression=mode, allowZip64=True) as zf:
+            for key, a in arrays.items():
+                with zf.open(key + ".npy", "w", force_zip64=True) as out:
+                    _write_npy(out, a)
+
+
+def _write_npy(out, a: np.ndarray) -> None:
+    """One array as ``np.save`` writes it: the header, then its bytes in C order."""
+    from numpy.lib import format as npy
+
+    a = np.asarray(a)
+    if not a.flags.c_contiguous:  # (np.ascontiguousarray would make a 0-d array 1-d)
+        a = a.copy(order="C")
+    header = npy.header_data_from_array_1_0(a)
+    try:
+        npy.write_array_header_1_0(out, header)
+    except ValueError:  # a header longer than format 1.0 holds
+        npy.write_array_header_2_0(out, header)
+    flat = a.reshape(-1).view(np.uint8)
+    for s in range(0, flat.size, CHUNK):
+        out.write(flat[s : s + CHUNK])
 
 
 def _index_array(a: np.ndarray, largest: int) -> np.ndarray:
