@@ -30,7 +30,9 @@ use crate::visibility::{Occluders, Visibility};
 use clipping::{adaptive_over_source, clearance, ShadowTest};
 use kinks::split_at_kinks;
 use rules::{area_source_points, source_points};
-use sampled::{cut_at_blocker_planes, kernel, mean_and_error, montecarlo, quadrature, stratum_samples, stratum_seed};
+use sampled::{
+    cut_at_blocker_planes, kernel, mean_and_error, montecarlo, pair_order, quadrature, stratum_samples, stratum_seed,
+};
 use subdivision::{adaptive_point, subdivide_at_blockers, uniform_point};
 
 pub use clipping::MAX_SOURCE_EVALS;
@@ -110,7 +112,7 @@ pub fn pair_with(ctx: &Context, i: usize, j: usize, m: VisMethod, o: &VisOptions
         return Ok(match m {
             _ if exact_when_unobstructed(m, o) => Estimate::exact(exact()?),
             VisMethod::MonteCarlo => montecarlo(a, b, None, &[], o, i, j),
-            _ => Estimate::exact(quadrature(a, b, None, &[], o)),
+            _ => Estimate::exact(quadrature(a, b, None, &[], o.order)),
         });
     }
     let blockers = ctx.blockers(&cand);
@@ -120,10 +122,13 @@ pub fn pair_with(ctx: &Context, i: usize, j: usize, m: VisMethod, o: &VisOptions
     let visible = |x: Vec3, y: Vec3| !ctx.vis.occluded(x, y, &ignore);
     Ok(match m {
         VisMethod::Quadrature => {
+            // the order of this pair from its unobstructed F and the absolute target `tol`
+            let free = exact()?;
+            let n = pair_order(free, a, b, o);
             if o.control_variate {
-                Estimate::exact(exact()? - quadrature(a, b, Some(&|x, y| !visible(x, y)), &blockers, o))
+                Estimate::exact(free - quadrature(a, b, Some(&|x, y| !visible(x, y)), &blockers, n))
             } else {
-                Estimate::exact(quadrature(a, b, Some(&visible), &blockers, o))
+                Estimate::exact(quadrature(a, b, Some(&visible), &blockers, n))
             }
         }
         VisMethod::MonteCarlo => {
