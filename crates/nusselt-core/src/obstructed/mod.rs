@@ -238,18 +238,23 @@ pub fn point(ctx: &Context, p: Vec3, n: Vec3, j: usize, m: VisMethod, o: &VisOpt
     let visible = |y: Vec3| !ctx.vis.occluded(p, y, ignore);
     Ok(match m {
         VisMethod::Quadrature => {
-            let rules: Vec<AreaRule> = subdivide_at_blockers(b, &blockers, o.panels)
-                .into_iter()
-                .filter_map(|t| Polygon::new(t.to_vec()).ok())
-                .map(|t| AreaRule::new(&t, o.order))
-                .collect();
+            let pieces = subdivide_at_blockers(b, &blockers, o.panels);
             let sum = |pred: &dyn Fn(Vec3) -> bool| -> f64 {
-                rules
-                    .iter()
-                    .flat_map(|r| r.points.iter().zip(&r.weights))
-                    .filter(|(y, _)| pred(**y))
-                    .map(|(y, w)| w * kernel(p, n, *y, b.normal()))
-                    .sum()
+                let mut total = 0.0;
+                // a rule per piece as it comes (up to 8 192 pieces of 1 024 points each)
+                for t in pieces.iter().filter_map(|t| Polygon::new(t.to_vec()).ok()) {
+                    // [methods] stop at cancellation or over budget (the result is discarded)
+                    if !crate::work::go_on() {
+                        break;
+                    }
+                    let r = AreaRule::new(&t, o.order);
+                    for (y, w) in r.points.iter().zip(&r.weights) {
+                        if pred(*y) {
+                            total += w * kernel(p, n, *y, b.normal());
+                        }
+                    }
+                }
+                total
             };
             if o.control_variate {
                 Estimate::exact(lambert - sum(&|y| !visible(y)))
@@ -272,6 +277,9 @@ pub fn point(ctx: &Context, p: Vec3, n: Vec3, j: usize, m: VisMethod, o: &VisOpt
                     let seed = stratum_seed(o.seed, [j as u64, u64::MAX, r as u64], s, strata.len());
                     let mut acc = 0.0;
                     for k in 0..*count {
+                        if k % 1024 == 0 && !crate::work::go_on() {
+                            break;
+                        }
                         let u = sobol4(k as u32, seed);
                         let y = sampler.sample([u[0], u[1]]);
                         let blocked = !visible(y);

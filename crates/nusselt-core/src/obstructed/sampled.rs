@@ -46,6 +46,10 @@ pub(super) fn quadrature(
     for ra in &ra {
         for rb in &rb {
             for (x, wx) in ra.points.iter().zip(&ra.weights) {
+                // [methods] stop at cancellation or over budget (the result is discarded)
+                if !crate::work::go_on() {
+                    return g;
+                }
                 for (y, wy) in rb.points.iter().zip(&rb.weights) {
                     let k = kernel(*x, a.normal(), *y, b.normal());
                     if k > 0.0 && pred.is_none_or(|p| p(*x, *y)) {
@@ -169,6 +173,10 @@ pub(super) fn montecarlo(
             let seed = stratum_seed(o.seed, [i as u64, j as u64, r as u64], s, strata.len());
             let mut acc = 0.0;
             for k in 0..*n {
+                // [methods] stop at cancellation or over budget (the result is discarded)
+                if k % 1024 == 0 && !crate::work::go_on() {
+                    break;
+                }
                 let u = sobol4(k as u32, seed);
                 let x = sa.sample([u[0], u[1]]);
                 let y = sb.sample([u[2], u[3]]);
