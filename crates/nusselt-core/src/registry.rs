@@ -234,7 +234,7 @@ pub static METHODS: &[MethodSpec] = &[
             ),
             float(
                 "tol",
-                1e-3,
+                5e-4,
                 1e-14,
                 0.1,
                 "absolute target on F (both directions) for pairs something may block: such a pair gets the lowest order \
