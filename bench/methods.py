@@ -4,6 +4,7 @@ the defaults of the sampled pair methods, and the calibration of the work budget
     python bench/methods.py scenes          # docs/methods.md's table and docs/methods.png
     python bench/methods.py curves          # error vs CPU over option values (docs/methods.md)
     python bench/methods.py budget          # work units per CPU second (docs/guide.md)
+    python bench/methods.py interrupt       # seconds from Ctrl-C to KeyboardInterrupt, per method
     python bench/methods.py scenes --scenes room --methods subdivision adaptive
 
 `scenes`: each method at its defaults on the 270-patch closed room with a floating crate
@@ -26,6 +27,11 @@ blockers of every kind, a partition, a fin, large room walls past a crate, trian
 the 270-patch room) against `clipping` at tol 1e-10, and on the whole 270-patch room: the
 largest absolute F error over the suite, its CPU, the room's CPU and its surface and patch
 errors.
+
+`interrupt`: each method on a call that would run for minutes (extreme but allowed options,
+budget unlimited: one pair with 10 blockers, a point, or the 5 400-patch box for `analytic`,
+`contour` and `auto`), interrupted after 0.3 s as Ctrl-C does (`_thread.interrupt_main`); the
+wall seconds from the interrupt to the KeyboardInterrupt, worst of `--repeats`.
 
 `budget`: work units per CPU second of each method (one unit: a ray test, a hemicube or
 single-plane cell, a disk cell, a traced ray), from the smallest budget a pair or row passes.
@@ -375,6 +381,73 @@ def budget(args):
         print(f"{m:12s} {str(o):34s} units {hi:>11d}  CPU {c * 1e3:9.2f} ms  units/s {hi / c:.2e}", flush=True)
 
 
+# options that make one call run for minutes (budget unlimited), per method
+LONG_CALLS = {
+    "auto": {"obstructed_tol": 1e-14},
+    "clipping": {"tol": 1e-14, "max_depth": 16},
+    "quadrature": {"order": 32, "tol": 1e-14, "control_variate": False},
+    "montecarlo": {"samples": 2**24, "control_variate": False},
+    "subdivision": {"divisions": 256, "source": 16},
+    "adaptive": {"tol": 1e-14, "max_depth": 16, "source": 16},
+    "hemicube": {"resolution": 4096, "source": 16},
+    "single-plane": {"min_cell": 1e-4, "half_width": 1e4, "source": 16},
+    "raytrace": {"rays": 2**26},
+    "nusselt": {"cells": 2**24, "source": 16},
+}
+
+
+def interrupt_latency(call, after=0.3):
+    """Wall seconds from an interrupt (as Ctrl-C, `after` s into `call` repeated) to the
+    KeyboardInterrupt; None if the calls ran 60 s without one."""
+    import _thread
+    import threading
+
+    fired = []
+
+    def fire():
+        fired.append(time.perf_counter())
+        _thread.interrupt_main()
+
+    timer = threading.Timer(after, fire)
+    t0 = time.perf_counter()
+    timer.start()
+    try:
+        while time.perf_counter() - t0 < 60:
+            call()
+        return None
+    except KeyboardInterrupt:
+        return time.perf_counter() - fired[0]
+    finally:
+        timer.cancel()
+
+
+def interrupt(args):
+    a, b = rect(0, 1, 0, 1), rect(0, 1, 0, 1, z=1, flip=True)
+    many = [rect(0.1 * k, 0.1 * k + 0.05, 0.2, 0.8, z=0.5) for k in range(10)]
+    p, n = np.array([0.5, 0.5, 0.0]), np.array([0.0, 0.0, 1.0])
+    cube = None
+    for m in args.methods:
+        calls = {}
+        if m in ("analytic", "contour", "auto"):
+            if cube is None:
+                room = scenes.room_with_crate(30, 1)  # its walls: a closed 30 x 30 x 6-patch box
+                cube = nusselt.Scene.from_polygons([q for q, s in zip(room.polygons, room.surface) if s[0] == "w"])
+            calls["scene, 5 400 patches"] = lambda m=m: nusselt.form_factors(cube, method=m)
+        if m in LONG_CALLS:
+            o = {**LONG_CALLS[m], "budget": 2**62}
+            calls["pair, 10 blockers"] = lambda m=m, o=o: nusselt.view_factor(a, b, obstacles=many, method=m, **o)
+            if nusselt.METHODS[m].kind == "pairs":
+                po = {**o, "panels": 64} if m == "quadrature" else o
+                calls["point, 10 blockers"] = lambda m=m, o=po: nusselt.point_view_factor(
+                    p, n, b, obstacles=many, method=m, **o
+                )
+        for what, call in calls.items():
+            lat = [interrupt_latency(call) for _ in range(args.repeats)]
+            worst = None if None in lat else max(lat)
+            line = {"method": m, "call": what, "worst_s": worst, "latency_s": lat}
+            print(json.dumps(line), flush=True)
+
+
 def plot(rows, path):
     """Surface error vs CPU (log-log), one marker per method and scene (matplotlib)."""
     import matplotlib
@@ -422,6 +495,10 @@ def main():
     c.add_argument(
         "--setting", action="append", default=[], help="METHOD:JSON options, e.g. 'quadrature:{\"order\": 8}'"
     )
+    i = sub.add_parser("interrupt")
+    i.add_argument("--methods", nargs="+", default=ALL_METHODS)
+    i.add_argument("--repeats", type=int, default=3)
+    sub.add_parser("budget")
     args = ap.parse_args()
     if args.what == "curves":
         args.settings = [(s.split(":", 1)[0], json.loads(s.split(":", 1)[1])) for s in args.setting] or None
@@ -430,6 +507,8 @@ def main():
         rows = scenes_table(args)
         if args.plot:
             plot(rows, args.plot)
+    elif args.what == "interrupt":
+        interrupt(args)
     else:
         budget(args)
 

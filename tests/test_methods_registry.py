@@ -112,29 +112,89 @@ def _interrupt_after(seconds):
     return t
 
 
-@pytest.mark.parametrize(
-    "method, opts",
-    [
-        ("adaptive", {"tol": 1e-14, "max_depth": 16, "source": 16, "budget": 2**62}),
-        ("nusselt", {"cells": 2**24, "source": 16, "budget": 2**62}),
-        ("quadrature", {"order": 32, "control_variate": False, "budget": 2**62}),
-    ],
-)
-def test_ctrl_c_stops_a_single_long_call(method, opts):
-    """A call that would run for minutes raises KeyboardInterrupt soon after Ctrl-C (the
-    bound is generous: the point is that it stops, not how fast on a loaded machine)."""
-    many = [rect(0.1 * k, 0.1 * k + 0.05, 0.2, 0.8, z=0.5) for k in range(10)]
-    t0 = time.perf_counter()
-    timer = _interrupt_after(0.3)
+# options that make one call run for minutes, per method (budget unlimited)
+LONG_CALLS = {
+    "auto": {"obstructed_tol": 1e-14},
+    "clipping": {"tol": 1e-14, "max_depth": 16},
+    "quadrature": {"order": 32, "tol": 1e-14, "control_variate": False},
+    "montecarlo": {"samples": 2**24, "control_variate": False},
+    "subdivision": {"divisions": 256, "source": 16},
+    "adaptive": {"tol": 1e-14, "max_depth": 16, "source": 16},
+    "hemicube": {"resolution": 4096, "source": 16},
+    "single-plane": {"min_cell": 1e-4, "half_width": 1e4, "source": 16},
+    "raytrace": {"rays": 2**26},
+    "nusselt": {"cells": 2**24, "source": 16},
+}
+MANY = [rect(0.1 * k, 0.1 * k + 0.05, 0.2, 0.8, z=0.5) for k in range(10)]
+
+
+def _latency_of_ctrl_c(call):
+    """Seconds from an interrupt (as Ctrl-C sends it, 0.3 s in) to the KeyboardInterrupt of
+    `call`, repeated until the interrupt lands in one."""
+    fired = []
+
+    def fire():
+        fired.append(time.perf_counter())
+        _thread.interrupt_main()
+
+    timer = threading.Timer(0.3, fire)
+    timer.start()
     try:
         with pytest.raises(KeyboardInterrupt):
-            for _ in range(1000):  # a short call repeats until the interrupt lands in one
-                nusselt.view_factor(A, B, obstacles=many, method=method, **opts)
+            for _ in range(10**6):
+                call()
+        return time.perf_counter() - fired[0]
     finally:
         timer.cancel()
-    assert time.perf_counter() - t0 < 30.0
+
+
+def _long_calls():
+    out = [pytest.param(m, "pair", id=f"{m}-pair") for m in LONG_CALLS]
+    out += [pytest.param(m, "point", id=f"{m}-point") for m in LONG_CALLS if METHODS[m].kind == "pairs"]
+    return out + [pytest.param(m, "scene", id=f"{m}-scene") for m in ("analytic", "contour", "auto")]
+
+
+@pytest.fixture(scope="module")
+def big_box():
+    from conftest import cube_faces
+
+    return nusselt.Scene.from_polygons(cube_faces(20)[0])  # 2 400 patches, 2.9 M pairs
+
+
+def test_every_method_has_a_long_call():
+    # the unobstructed closed forms have no option that makes one pair long: a scene is
+    assert set(LONG_CALLS) == {n for n, m in METHODS.items() if m.obstructed}
+    assert set(METHODS) - set(LONG_CALLS) == {"analytic", "contour"}
+
+
+@pytest.mark.parametrize("method, call", _long_calls())
+def test_ctrl_c_stops_a_single_long_call_of_every_method(method, call, request):
+    """Ctrl-C reaches every method's inner loop: a call that would run for minutes (extreme
+    but allowed options, no budget) raises KeyboardInterrupt soon after the interrupt. The
+    bound is generous for a loaded machine (the calls that did not poll took 4 to 17 s);
+    `python bench/methods.py interrupt` measures the latency (docs/methods.md)."""
+    opts = {**LONG_CALLS.get(method, {}), "budget": 2**62} if call != "scene" else {}
+    if call == "pair":
+        latency = _latency_of_ctrl_c(lambda: nusselt.view_factor(A, B, obstacles=MANY, method=method, **opts))
+    elif call == "point":
+        if method == "quadrature":
+            opts["panels"] = 64
+        p, n = np.array([0.5, 0.5, 0.0]), np.array([0.0, 0.0, 1.0])
+        latency = _latency_of_ctrl_c(lambda: nusselt.point_view_factor(p, n, B, obstacles=MANY, method=method, **opts))
+    else:
+        box = request.getfixturevalue("big_box")
+        latency = _latency_of_ctrl_c(lambda: nusselt.form_factors(box, method=method))
+    assert latency < 2.0, latency
     # the core is usable again afterwards (the cancellation flag was cleared)
     assert nusselt.view_factor(A, B, method="auto") > 0.19
+
+
+@pytest.mark.parametrize("method", [n for n, m in METHODS.items() if "budget" in m.options])
+def test_every_budget_is_checked_and_named_in_the_error(method):
+    """A pair or row that needs more work than its budget is a ValueError naming the budget
+    and the option to raise, for every method that has one."""
+    with pytest.raises(ValueError, match=r"budget=10\b.*raise the method's `budget` option"):
+        nusselt.view_factor(A, B, obstacles=[BLOCKER], method=method, budget=10)
 
 
 def test_ctrl_c_keeps_finished_blocks_on_disk(tmp_path):

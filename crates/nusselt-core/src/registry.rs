@@ -221,9 +221,25 @@ pub static METHODS: &[MethodSpec] = &[
         obstructed: true,
         doc: "Gauss rules on both areas (the double area integral) with point-pair visibility by ray casting; each polygon \
               is first cut along the planes of blockers that pass through it (a partition or a fin standing on it), where \
-              visibility steps",
+              visibility steps; a pair something may block gets its own order, the lowest whose bound on the visibility \
+              step's error (a fraction of the pair's unobstructed F that falls like 1/order) meets `tol`, at most `order`",
         options: &[
-            int("order", 24, 1, 32, "Gauss order per direction on each polygon (a piece cut off a fraction f of it gets ceil(order sqrt f))"),
+            int(
+                "order",
+                24,
+                1,
+                32,
+                "most Gauss points per direction on each polygon (a piece cut off a fraction f of it gets ceil(order \
+                 sqrt f)); the order of pairs nothing can block",
+            ),
+            float(
+                "tol",
+                5e-4,
+                1e-14,
+                0.1,
+                "absolute target on F (both directions) for pairs something may block: such a pair gets the lowest order \
+                 n with 0.75 F_free / n <= tol (F_free: its unobstructed F), between 2 and `order`",
+            ),
             int(
                 "panels",
                 4,
@@ -472,6 +488,7 @@ fn apply(name: &str, key: &str, v: &Value, o: &mut AllOptions) -> Result<()> {
         ("auto", "obstructed_tol") => o.vis.tol = as_f64(v),
         ("contour", "nodes") => o.exact.nodes = as_u64(v) as usize,
         ("quadrature", "order") => o.vis.order = as_u64(v) as usize,
+        ("quadrature", "tol") => o.vis.tol = as_f64(v),
         ("quadrature", "panels") => o.vis.panels = as_u64(v) as usize,
         ("quadrature" | "montecarlo", "control_variate") => o.vis.control_variate = as_bool(v),
         ("montecarlo", "samples") => o.vis.samples = as_u64(v) as usize,

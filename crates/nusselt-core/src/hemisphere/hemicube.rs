@@ -126,21 +126,43 @@ struct Scratch {
 }
 
 impl Scratch {
-    fn prepare(&mut self, res: usize) {
+    /// Cell tables for `res` (computed once per resolution) and cleared buffers; false when
+    /// cancelled or over budget while the tables were being computed (they are then left
+    /// invalid, to be computed again by the next call).
+    fn prepare(&mut self, res: usize) -> bool {
         if self.res != res {
+            self.res = 0;
             let h = 2.0 / res as f64;
-            self.top = (0..res * res)
-                .map(|c| {
-                    let (col, row) = ((c % res) as f64, (c / res) as f64);
-                    top_cell(-1.0 + col * h, -1.0 + (col + 1.0) * h, -1.0 + row * h, -1.0 + (row + 1.0) * h)
-                })
-                .collect();
-            self.side = (0..res * res / 2)
-                .map(|c| {
-                    let (col, row) = ((c % res) as f64, (c / res) as f64);
-                    side_cell(-1.0 + col * h, -1.0 + (col + 1.0) * h, row * h, (row + 1.0) * h)
-                })
-                .collect();
+            // each cell is the difference of Phi (Psi) at its four corners: evaluate the
+            // corners once per row of cells (the same values as `top_cell` / `side_cell`)
+            let (mut lo, mut hi) = (vec![0.0; res + 1], vec![0.0; res + 1]);
+            self.top.clear();
+            self.top.reserve(res * res);
+            for row in 0..res {
+                // [methods] a row of corners at a time, so that Ctrl-C is seen at 4096 cells
+                if !crate::work::go_on() {
+                    return false;
+                }
+                let (y0, y1) = (-1.0 + row as f64 * h, -1.0 + (row as f64 + 1.0) * h);
+                for (k, (l, u)) in lo.iter_mut().zip(hi.iter_mut()).enumerate() {
+                    let x = -1.0 + k as f64 * h;
+                    (*l, *u) = (phi(x, y0), phi(x, y1));
+                }
+                self.top.extend((0..res).map(|c| hi[c + 1] - hi[c] - lo[c + 1] + lo[c]));
+            }
+            self.side.clear();
+            self.side.reserve(res * res / 2);
+            for row in 0..res / 2 {
+                if !crate::work::go_on() {
+                    return false;
+                }
+                let (z0, z1) = (row as f64 * h, (row as f64 + 1.0) * h);
+                for (k, (l, u)) in lo.iter_mut().zip(hi.iter_mut()).enumerate() {
+                    let y = -1.0 + k as f64 * h;
+                    (*l, *u) = (psi(y, z0), psi(y, z1));
+                }
+                self.side.extend((0..res).map(|c| hi[c + 1] - hi[c] - lo[c + 1] + lo[c]));
+            }
             self.res = res;
         }
         let cells = 3 * res * res;
@@ -148,6 +170,7 @@ impl Scratch {
         self.depth.resize(cells, 0.0);
         self.item.clear();
         self.item.resize(cells, EMPTY);
+        true
     }
 }
 
@@ -248,7 +271,9 @@ pub fn hemicube_row(scene: &[Polygon], receivers: &[bool], i: usize, opts: &Hemi
             if !crate::work::spend(3 * (res * res) as u64) {
                 return false;
             }
-            s.prepare(res);
+            if !s.prepare(res) {
+                return false;
+            }
             for (j, poly) in scene.iter().enumerate() {
                 if j == i || (j % 256 == 0 && !crate::work::go_on()) {
                     continue;
@@ -370,9 +395,21 @@ mod tests {
         // cell tables sum to the same, at any resolution
         for res in [4usize, 50, 128] {
             let mut s = Scratch::default();
-            s.prepare(res);
+            assert!(s.prepare(res));
             let total: f64 = s.top.iter().sum::<f64>() + 4.0 * s.side.iter().sum::<f64>();
             assert!((total - 1.0).abs() < 1e-13, "res {res}: {total}");
+            // the tables from corner rows are the cell formulas, bit for bit
+            let h = 2.0 / res as f64;
+            for (c, &t) in s.top.iter().enumerate() {
+                let (col, row) = ((c % res) as f64, (c / res) as f64);
+                let want = top_cell(-1.0 + col * h, -1.0 + (col + 1.0) * h, -1.0 + row * h, -1.0 + (row + 1.0) * h);
+                assert_eq!(t.to_bits(), want.to_bits(), "res {res} top cell {c}");
+            }
+            for (c, &t) in s.side.iter().enumerate() {
+                let (col, row) = ((c % res) as f64, (c / res) as f64);
+                let want = side_cell(-1.0 + col * h, -1.0 + (col + 1.0) * h, row * h, (row + 1.0) * h);
+                assert_eq!(t.to_bits(), want.to_bits(), "res {res} side cell {c}");
+            }
         }
         // Phi and Psi against midpoint integration of the kernels over a cell
         let m = 400;

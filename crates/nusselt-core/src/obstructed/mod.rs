@@ -30,7 +30,9 @@ use crate::visibility::{Occluders, Visibility};
 use clipping::{adaptive_over_source, clearance, ShadowTest};
 use kinks::split_at_kinks;
 use rules::{area_source_points, source_points};
-use sampled::{cut_at_blocker_planes, kernel, mean_and_error, montecarlo, quadrature, stratum_samples, stratum_seed};
+use sampled::{
+    cut_at_blocker_planes, kernel, mean_and_error, montecarlo, pair_order, quadrature, stratum_samples, stratum_seed,
+};
 use subdivision::{adaptive_point, subdivide_at_blockers, uniform_point};
 
 pub use clipping::MAX_SOURCE_EVALS;
@@ -110,7 +112,7 @@ pub fn pair_with(ctx: &Context, i: usize, j: usize, m: VisMethod, o: &VisOptions
         return Ok(match m {
             _ if exact_when_unobstructed(m, o) => Estimate::exact(exact()?),
             VisMethod::MonteCarlo => montecarlo(a, b, None, &[], o, i, j),
-            _ => Estimate::exact(quadrature(a, b, None, &[], o)),
+            _ => Estimate::exact(quadrature(a, b, None, &[], o.order)),
         });
     }
     let blockers = ctx.blockers(&cand);
@@ -120,10 +122,13 @@ pub fn pair_with(ctx: &Context, i: usize, j: usize, m: VisMethod, o: &VisOptions
     let visible = |x: Vec3, y: Vec3| !ctx.vis.occluded(x, y, &ignore);
     Ok(match m {
         VisMethod::Quadrature => {
+            // the order of this pair from its unobstructed F and the absolute target `tol`
+            let free = exact()?;
+            let n = pair_order(free, a, b, o);
             if o.control_variate {
-                Estimate::exact(exact()? - quadrature(a, b, Some(&|x, y| !visible(x, y)), &blockers, o))
+                Estimate::exact(free - quadrature(a, b, Some(&|x, y| !visible(x, y)), &blockers, n))
             } else {
-                Estimate::exact(quadrature(a, b, Some(&visible), &blockers, o))
+                Estimate::exact(quadrature(a, b, Some(&visible), &blockers, n))
             }
         }
         VisMethod::MonteCarlo => {
@@ -233,18 +238,23 @@ pub fn point(ctx: &Context, p: Vec3, n: Vec3, j: usize, m: VisMethod, o: &VisOpt
     let visible = |y: Vec3| !ctx.vis.occluded(p, y, ignore);
     Ok(match m {
         VisMethod::Quadrature => {
-            let rules: Vec<AreaRule> = subdivide_at_blockers(b, &blockers, o.panels)
-                .into_iter()
-                .filter_map(|t| Polygon::new(t.to_vec()).ok())
-                .map(|t| AreaRule::new(&t, o.order))
-                .collect();
+            let pieces = subdivide_at_blockers(b, &blockers, o.panels);
             let sum = |pred: &dyn Fn(Vec3) -> bool| -> f64 {
-                rules
-                    .iter()
-                    .flat_map(|r| r.points.iter().zip(&r.weights))
-                    .filter(|(y, _)| pred(**y))
-                    .map(|(y, w)| w * kernel(p, n, *y, b.normal()))
-                    .sum()
+                let mut total = 0.0;
+                // a rule per piece as it comes (up to 8 192 pieces of 1 024 points each)
+                for t in pieces.iter().filter_map(|t| Polygon::new(t.to_vec()).ok()) {
+                    // [methods] stop at cancellation or over budget (the result is discarded)
+                    if !crate::work::go_on() {
+                        break;
+                    }
+                    let r = AreaRule::new(&t, o.order);
+                    for (y, w) in r.points.iter().zip(&r.weights) {
+                        if pred(*y) {
+                            total += w * kernel(p, n, *y, b.normal());
+                        }
+                    }
+                }
+                total
             };
             if o.control_variate {
                 Estimate::exact(lambert - sum(&|y| !visible(y)))
@@ -267,6 +277,9 @@ pub fn point(ctx: &Context, p: Vec3, n: Vec3, j: usize, m: VisMethod, o: &VisOpt
                     let seed = stratum_seed(o.seed, [j as u64, u64::MAX, r as u64], s, strata.len());
                     let mut acc = 0.0;
                     for k in 0..*count {
+                        if k % 1024 == 0 && !crate::work::go_on() {
+                            break;
+                        }
                         let u = sobol4(k as u32, seed);
                         let y = sampler.sample([u[0], u[1]]);
                         let blocked = !visible(y);

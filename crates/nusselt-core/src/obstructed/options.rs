@@ -26,8 +26,11 @@ pub struct VisOptions {
     /// `clipping` and obstructed pairs of `auto`: error target on F relative to the pair's
     /// unobstructed F (so also an absolute bound on F, and row sums in a scene are within
     /// tol times the unobstructed row sum). `adaptive`: absolute F per leaf piece.
+    /// `quadrature`: absolute target on F from which an obstructed pair's order is chosen
+    /// (`sampled::pair_order`).
     pub tol: f64,
-    /// `quadrature`: Gauss order per direction on each polygon.
+    /// `quadrature`: most Gauss points per direction on each polygon (the order of pairs
+    /// nothing can block).
     pub order: usize,
     /// `quadrature`, point form only: the receiver's triangles are split into panels^2 pieces,
     /// each with the order rule. A single area integral keeps the visibility step sharp, so

@@ -23,21 +23,22 @@ pub(super) fn kernel(x: Vec3, nx: Vec3, y: Vec3, ny: Vec3) -> f64 {
     }
 }
 
-/// Double Gauss rule: sum w_k w_l K(x_k, y_l) [pred(x_k, y_l)] (pred None = always 1),
-/// composite over the pieces of both polygons cut along the blockers' planes (see
-/// [`cut_at_blocker_planes`]), a piece of a fraction f of its polygon's area getting order
-/// ceil(order sqrt f): about order^2 points per polygon however it is cut.
+/// Double Gauss rule of `order` per direction: sum w_k w_l K(x_k, y_l) [pred(x_k, y_l)]
+/// (pred None = always 1), composite over the pieces of both polygons cut along the
+/// blockers' planes (see [`cut_at_blocker_planes`]), a piece of a fraction f of its
+/// polygon's area getting order ceil(order sqrt f): about order^2 points per polygon however
+/// it is cut.
 pub(super) fn quadrature(
     a: &Polygon,
     b: &Polygon,
     pred: Option<&dyn Fn(Vec3, Vec3) -> bool>,
     blockers: &[&Polygon],
-    o: &VisOptions,
+    order: usize,
 ) -> f64 {
     let rules = |p: &Polygon| -> Vec<AreaRule> {
         cut_at_blocker_planes(p, blockers)
             .iter()
-            .map(|q| AreaRule::new(q, per_direction(o.order, q.area() / p.area()).clamp(2.min(o.order), o.order)))
+            .map(|q| AreaRule::new(q, per_direction(order, q.area() / p.area()).clamp(2.min(order), order)))
             .collect()
     };
     let (ra, rb) = (rules(a), rules(b));
@@ -45,6 +46,10 @@ pub(super) fn quadrature(
     for ra in &ra {
         for rb in &rb {
             for (x, wx) in ra.points.iter().zip(&ra.weights) {
+                // [methods] stop at cancellation or over budget (the result is discarded)
+                if !crate::work::go_on() {
+                    return g;
+                }
                 for (y, wy) in rb.points.iter().zip(&rb.weights) {
                     let k = kernel(*x, a.normal(), *y, b.normal());
                     if k > 0.0 && pred.is_none_or(|p| p(*x, *y)) {
@@ -55,6 +60,28 @@ pub(super) fn quadrature(
         }
     }
     g
+}
+
+/// Bound on the error of a Gauss rule of order n per direction on a pair with 0/1
+/// visibility, as a fraction of the pair's unobstructed F: STEP_ERROR / n. The visibility step
+/// limits the rule to O(1/n), and where the nodes fall against a shadow edge makes the error
+/// jump with n; the bound is the envelope over the obstructed pairs of `bench/methods.py`
+/// (largest n x error / F_free over n = 1..32 there: 0.73 at n = 1, 0.72 at 2, 0.55 at 20;
+/// docs/algorithms.md §6.4).
+pub(super) const STEP_ERROR: f64 = 0.75;
+
+/// Fewest points per direction a pair's rule gets, however small its unobstructed F.
+const MIN_PAIR_ORDER: usize = 2;
+
+/// The Gauss order of an obstructed pair with unobstructed G `g_free`: the lowest n whose
+/// step-error bound STEP_ERROR F_free / n meets `o.tol` on F in both directions (F_free =
+/// G / the smaller area), between [`MIN_PAIR_ORDER`] and `o.order`. The target is absolute
+/// on F, so a small (distant) pair needs few points and a large one gets `o.order`.
+pub(super) fn pair_order(g_free: f64, a: &Polygon, b: &Polygon, o: &VisOptions) -> usize {
+    let f = g_free / a.area().min(b.area());
+    let n = (STEP_ERROR * f / o.tol).ceil();
+    // f64::min takes the number over NaN: an F_free that is not a number gets `o.order`
+    (n.min(o.order as f64).max(0.0) as usize).clamp(MIN_PAIR_ORDER.min(o.order), o.order)
 }
 
 /// Most pieces [`cut_at_blocker_planes`] cuts a polygon into.
@@ -146,6 +173,10 @@ pub(super) fn montecarlo(
             let seed = stratum_seed(o.seed, [i as u64, j as u64, r as u64], s, strata.len());
             let mut acc = 0.0;
             for k in 0..*n {
+                // [methods] stop at cancellation or over budget (the result is discarded)
+                if k % 1024 == 0 && !crate::work::go_on() {
+                    break;
+                }
                 let u = sobol4(k as u32, seed);
                 let x = sa.sample([u[0], u[1]]);
                 let y = sb.sample([u[2], u[3]]);
@@ -166,4 +197,50 @@ pub(super) fn mean_and_error(est: &[f64]) -> Estimate {
     let mean = est.iter().sum::<f64>() / n;
     let var = est.iter().map(|e| (e - mean).powi(2)).sum::<f64>() / (n - 1.0);
     Estimate { value: mean, std_err: (var / n).sqrt() }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::registry::{configure, Value};
+    use crate::scene::pair_view_factor;
+    use crate::unobstructed::far_field::tests::square;
+
+    /// F between plates of side s centred one above the other at distance 1, a square blocker
+    /// of side s/2 half-way, by `method` with `given` options.
+    fn blocked_plates(s: f64, method: &str, given: &[(&str, Value)]) -> f64 {
+        let given: Vec<(String, Value)> = given.iter().map(|(k, v)| (k.to_string(), v.clone())).collect();
+        let (m, o) = configure(method, &given).unwrap();
+        let (a, b) = (square(-s / 2., -s / 2., s, 0., true), square(-s / 2., -s / 2., s, 1., false));
+        let blocker = square(-s / 4., -s / 4., s / 2., 0.5, true);
+        pair_view_factor(a, b, vec![blocker], m, &o).unwrap().value
+    }
+
+    #[test]
+    fn the_order_falls_with_the_unobstructed_f() {
+        let o = VisOptions { tol: 1e-3, order: 24, ..VisOptions::default() };
+        let (unit, small) = (square(0., 0., 1., 0., true), square(0., 0., 0.1, 1., false));
+        // G = A F: unit plates one apart (F 0.1998) need 150 points, so get the most, 24
+        assert_eq!(pair_order(0.1998, &unit, &square(0., 0., 1., 1., false), &o), 24);
+        // a 0.1 plate seen from a unit plate: F_free = G / 0.01 (the smaller area) = 0.0032
+        assert_eq!(pair_order(0.0032 * 0.01, &unit, &small, &o), 3);
+        assert_eq!(pair_order(1e-12, &unit, &small, &o), MIN_PAIR_ORDER);
+        assert_eq!(pair_order(f64::NAN, &unit, &small, &o), 24);
+        // a tight target keeps `order` everywhere; order 1 stays 1
+        assert_eq!(pair_order(1e-12, &unit, &small, &VisOptions { tol: 1e-14, ..o.clone() }), 24);
+        assert_eq!(pair_order(0.2, &unit, &small, &VisOptions { order: 1, ..o }), 1);
+    }
+
+    #[test]
+    fn each_pair_is_the_fixed_rule_of_its_order_and_meets_tol() {
+        // unobstructed F 0.1998, 0.0124, 0.0032: orders min(24, ceil(0.75 F / 5e-4))
+        for (s, n) in [(1.0, 24), (0.2, 19), (0.1, 5)] {
+            // against the exact visible region (clipping to 1e-10), an independent method
+            let exact = blocked_plates(s, "clipping", &[("tol", Value::Float(1e-10))]);
+            let got = blocked_plates(s, "quadrature", &[]);
+            let fixed = blocked_plates(s, "quadrature", &[("order", Value::Int(n)), ("tol", Value::Float(1e-14))]);
+            assert_eq!(got.to_bits(), fixed.to_bits(), "side {s}: order {n}");
+            assert!((got - exact).abs() <= 5e-4, "side {s}: {got} vs {exact}");
+        }
+    }
 }
