@@ -342,8 +342,9 @@ def test_obstructed_estimate_does_not_depend_on_the_origin(tol):
     # two within 2 tol F_free of each other (before: 28 x tol apart at 1e-3)
     free = _free_matrix(VERTEX_FACES)
     F = [
-        nusselt.form_factors(nusselt.Scene.from_polygons([p + shift for p in VERTEX_FACES]), obstructed_tol=tol)
-        .matrix.toarray()
+        nusselt.form_factors(
+            nusselt.Scene.from_polygons([p + shift for p in VERTEX_FACES]), obstructed_tol=tol
+        ).matrix.toarray()
         for shift in (0.0, 7.0)
     ]
     gap = np.abs(F[0] - F[1])
