@@ -122,3 +122,35 @@ def _free(polys):
     """F of every pair with nothing in between (the scale of each pair's target)."""
     n = len(polys)
     return np.array([[nusselt.view_factor(polys[i], polys[j]) if i != j else 0.0 for j in range(n)] for i in range(n)])
+
+
+# Found by the long run (NUSSELT_HYPOTHESIS=long, 10 000 examples) and not fixed yet.
+@pytest.mark.xfail(strict=True, reason="analytic pair of nearly touching triangles scaled by 1e-6 (open)")
+def test_replay_nearly_touching_pair_scaled():
+    a = np.array([[0.0, 0.0, 0.0], [0.0, 1e-9, 1.0], [1.0, 1.0, 0.0]])
+    b = np.array([[0.0, 0.0, 1.0], [0.0, 1e-9, 0.0], [1.0, 1.0, 0.0]])
+    f_ab = nusselt.view_factor(a, b, method="analytic")
+    moved = nusselt.view_factor(1e-6 * a, 1e-6 * b, method="analytic")
+    assert abs(moved - f_ab) <= 1e-8, (moved, f_ab)  # 1.27e-8 apart
+
+
+@pytest.mark.xfail(strict=True, reason="scene path misses a small shadow the pair path sees (open)")
+def test_replay_obstacle_takes_away_in_the_scene_path():
+    polys = [
+        np.array(p)
+        for p in (
+            [[0.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, 1.0, 0.0]],
+            [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]],
+            [[1.0, 1.0, -1.0], [0.0, -1.0, 0.0], [-0.5, 0.0, 0.0]],
+            [[0.0, 0.5, -0.5], [-0.6875, 0.4375, 0.0], [1.0, -1.0, 0.375]],
+            [[0.0, 0.0, 0.0], [0.0, 0.5, 0.0], [0.5, 0.75, -1.0]],
+        )
+    ]
+    obstacle = np.array([[0.0, 0.0, 1.0], [0.0, 1.0, -1.0], [0.0, 0.0, 0.0]])
+    F = nusselt.form_factors(nusselt.Scene.from_polygons(polys)).matrix.toarray()
+    scene = nusselt.Scene.from_polygons([*polys, obstacle], obstruction=[False] * 5 + [True])
+    blocked = nusselt.form_factors(scene).matrix.toarray()
+    free_f = nusselt.view_factor(polys[4], polys[2])
+    # F[4, 2] 3.01431e-3 in both the free scene and the pair path (every other face a blocker),
+    # 3.01450e-3 in the blocked scene at the default tol: 64 x tol F_free above
+    assert blocked[4, 2] <= F[4, 2] + 2e-6 * free_f, (blocked[4, 2], F[4, 2])

@@ -498,7 +498,8 @@ pub(crate) fn plane_chord(b: &Polygon, q: Vec3, n: Vec3) -> Option<(Vec3, Vec3)>
     let n = n.normalize_or_zero();
     let v = b.vertices();
     let tol = 1e-9 * b.radius();
-    let h: Vec<f64> = v.iter().map(|x| n.dot(*x - q)).collect();
+    // heights within tol count as 0, whatever their rounding where the scene lies
+    let h: Vec<f64> = v.iter().map(|x| n.dot(*x - q)).map(|x| if x.abs() <= tol { 0.0 } else { x }).collect();
     let mut ends: Vec<Vec3> = Vec::new();
     if !(h.iter().any(|&x| x > tol) && h.iter().any(|&x| x < -tol)) {
         // touching the plane (a wall meeting the source along an edge) counts too

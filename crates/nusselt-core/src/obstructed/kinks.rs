@@ -96,7 +96,11 @@ fn kink_planes(a: &Polygon, receiver: &Polygon, blockers: &[&Polygon]) -> Kinks 
     // Where the line from receiver vertex r through blocker vertex q meets the source's plane
     // beyond q (an event's end seen from the source): Err(-1) if q is behind that plane,
     // Err(1) if the line never gets there. One table per blocker, rows = receiver vertices.
-    let dist = |x: Vec3| na.dot(x - ca);
+    // Distances within `tol` of a plane count as on it (0), so that a vertex shared with the
+    // source is classed alike wherever the scene lies (the rounding of its distance, 0 or
+    // +-1e-16, depends on the coordinates' magnitude).
+    let snap = |d: f64| if d.abs() <= tol { 0.0 } else { d };
+    let dist = |x: Vec3| snap(na.dot(x - ca));
     let trace = |r: Vec3, q: Vec3| -> std::result::Result<Vec3, i8> {
         let (dr, dq) = (dist(r), dist(q));
         if dq <= 0.0 {
@@ -119,7 +123,7 @@ fn kink_planes(a: &Polygon, receiver: &Polygon, blockers: &[&Polygon]) -> Kinks 
         if !(u.length() > 0.0) || ends.iter().any(|e| e.is_err()) {
             return true;
         }
-        let u = u.normalize();
+        let (u, n) = (u.normalize(), n.normalize());
         let (lo, hi) = ends
             .iter()
             .flatten()
@@ -127,7 +131,7 @@ fn kink_planes(a: &Polygon, receiver: &Polygon, blockers: &[&Polygon]) -> Kinks 
         let (mut slo, mut shi) = (f64::INFINITY, f64::NEG_INFINITY);
         for k in 0..src.len() {
             let (x, y) = (src[k], src[(k + 1) % src.len()]);
-            let (dx, dy) = (n.dot(x - q), n.dot(y - q));
+            let (dx, dy) = (snap(n.dot(x - q)), snap(n.dot(y - q)));
             if (dx <= 0.0) != (dy <= 0.0) {
                 let s = u.dot(x + (y - x) * (dx / (dx - dy)));
                 slo = slo.min(s);
