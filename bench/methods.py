@@ -10,14 +10,16 @@ the defaults of the sampled pair methods, and the calibration of the work budget
 `scenes`: each method at its defaults on the 270-patch closed room with a floating crate
 (:func:`scenes.room_with_crate`), the furnished office (:func:`scenes.office`, 2 322 patches)
 and the urban grid (:func:`scenes.urban` k=4, 2 560 patches), against `auto` with
-`obstructed_tol=1e-7` (the room) or its defaults (office, urban; their real error on
-obstructed pairs is about 1e-8, far below what is measured here). CPU is user + sys of this
-process over the call (all threads; run with RAYON_NUM_THREADS=2, the default here), wall the
-elapsed time. Errors: "surface" is the largest |F - F_ref| of the matrices aggregated to named
-surfaces (area-weighted, `FormFactors.by_surface`), "patch" the largest over patch pairs. A
-method whose projected cost on a big scene exceeds `--cap` CPU seconds is run on a sample of
-rows only: the table gives the projected CPU (sample CPU x total / sampled pairs or rows) and
-the patch error on those rows. `analytic` and `contour` assume nothing is in between: on the
+`obstructed_tol=1e-7` (with `--sampled-reference` on the sampled rows only: the whole office
+costs about 15 CPU minutes). CPU is user + sys of this process over the call (all threads;
+run with RAYON_NUM_THREADS=2, the default here), wall the elapsed time. Errors: "surface" is
+the largest |F - F_ref| of the matrices aggregated to named surfaces (area-weighted,
+`FormFactors.by_surface`), "patch" the largest over patch pairs. On the big scenes every
+method first runs on `--rows` sampled whole rows (:func:`scale.pair_sample_rows` for pair
+methods) and its CPU is projected to the scene (sample CPU / the sample's share of the
+pairs or rows); only if that is under `--cap` CPU seconds is the whole scene run and timed.
+Sampled rows give the patch error and the patch-to-surface error (F of a sampled patch to
+each named surface) on those rows. `analytic` and `contour` assume nothing is in between: on the
 scenes with obstacles they refuse (a ValueError naming a blocked pair), and are measured on
 the room without its crate instead.
 
@@ -265,28 +267,6 @@ def errors(res, ref):
 ALL_METHODS = list(nusselt.METHODS)
 
 
-def sampled_rows(scene, method, rows, opts=None):
-    """(dense F on `rows` x columns, CPU s) from the core's row-block calls: pair methods give
-    G_ij for j > i (divided by A_i here), row methods whole rows."""
-    core, n = scene._core, len(scene)
-    m, o = nusselt.methods.resolve(method, opts or {})
-    rows = np.asarray(rows, dtype=np.int64)
-    out = np.zeros((len(rows), n))
-    if m.kind == "pairs":
-        (indptr, indices, data, _), c, _ = cpu_wall(lambda: core.pair_rows(rows, method, o))
-        for r, i in enumerate(rows):
-            sl = slice(indptr[r], indptr[r + 1])
-            out[r, indices[sl]] = data[sl] / scene.areas[i]
-        mask = np.arange(n)[None, :] > rows[:, None]
-    else:
-        (indptr, indices, data, _, _), c, _ = cpu_wall(lambda: core.full_rows(rows, method, o))
-        for r in range(len(rows)):
-            sl = slice(indptr[r], indptr[r + 1])
-            out[r, indices[sl]] = data[sl]
-        mask = np.ones((len(rows), n), bool)
-    return out, mask, c
-
-
 def scenes_table(args):
     specs = scene_specs(args.scenes)
     rows_out = []
@@ -316,44 +296,100 @@ def scenes_table(args):
                 rows_out.append(line)
                 print(json.dumps(line), flush=True)
         else:
-            ref = reference(scene, key)
-            rng = np.random.default_rng(0)
-            rows = np.sort(rng.choice(n, args.rows, replace=False))
-            dense_ref = ref.dense()
-            pairs_total = n * (n - 1) / 2
-            pairs_sampled = float(sum(n - 1 - i for i in rows))
-            for method in args.methods:
-                if not nusselt.METHODS[method].obstructed:
-                    continue
-                if method in PAIR_METHODS:
-                    # sampled pair methods: the upper triangle of a sample of rows, cost projected
-                    f, msk, c = sampled_rows(scene, method, rows)
-                    err = float(np.abs(np.where(msk, f - dense_ref[rows], 0.0)).max())
-                    line = {
-                        "scene": key,
-                        "patches": n,
-                        "method": method,
-                        "cpu": c * pairs_total / pairs_sampled,
-                        "sample_cpu": c,
-                        "patch_err": err,
-                        "note": f"projected from {len(rows)} rows",
-                    }
-                else:
-                    res, c, w = cpu_wall(lambda: nusselt.form_factors(scene, method=method))
-                    line = {
-                        "scene": key,
-                        "patches": n,
-                        "method": method,
-                        "cpu": c,
-                        "wall": w,
-                        **errors(res, ref),
-                        "note": "",
-                    }
-                rows_out.append(line)
-                print(json.dumps(line), flush=True)
+            rows_out += big_scene_rows(key, spec, scene, args)
     if args.json:
         pathlib.Path(args.json).write_text(json.dumps(rows_out, indent=1))
     return rows_out
+
+
+def surface_onehot(surface):
+    """(n, surfaces) 0/1 matrix: F @ it sums each row of F over every named surface's patches."""
+    names = sorted(set(surface))
+    m = np.zeros((len(surface), len(names)))
+    m[np.arange(len(surface)), [names.index(x) for x in surface]] = 1.0
+    return m
+
+
+def sample_full_rows(spec, rows, method, opts=None):
+    """(F on `rows` x all columns, CPU s) of a method: pair methods by `scale.pair_sample_rows`
+    (the sample patches put first, so each row's pairs are computed once), row methods by the
+    core's row calls. Also the fraction of the scene's work the sample is."""
+    from scale import pair_sample_rows
+
+    n, s = len(spec.polygons), len(rows)
+    m, o = nusselt.methods.resolve(method, opts or {})
+    if m.kind == "pairs":
+        dense, c, _ = cpu_wall(lambda: pair_sample_rows(spec.polygons, rows, method, o)[0])
+        share = (s * (n - 1) - s * (s - 1) / 2) / (n * (n - 1) / 2)
+    else:
+        core = spec.scene()._core
+        (indptr, indices, data, _, _), c, _ = cpu_wall(lambda: core.full_rows(np.asarray(rows, np.int64), method, o))
+        dense = np.zeros((s, n))
+        for r in range(s):
+            sl = slice(indptr[r], indptr[r + 1])
+            dense[r, indices[sl]] = data[sl]
+        share = s / n
+    return dense, c, share
+
+
+def big_scene_rows(key, spec, scene, args):
+    """The office or urban rows of the table. Every method first runs on `--rows` sampled rows
+    (whole rows, all columns), its CPU projected to the scene; if that is under `--cap` CPU s
+    it then runs on the whole scene and its CPU is measured. The reference is `auto` at
+    obstructed_tol 1e-7, on the whole scene, or with `--sampled-reference` on the sample rows
+    only. Errors against a whole reference on a whole run: surface-level and patch-level;
+    otherwise on the sample rows: patch-level and patch-to-surface (F of a sample patch to each
+    named surface, of which the surface-level F is an area-weighted mean)."""
+    n = len(scene)
+    rows = np.sort(np.random.default_rng(0).choice(n, args.rows, replace=False))
+    onehot = surface_onehot(spec.surface)
+    ref_opts = {"obstructed_tol": 1e-7}
+    if args.sampled_reference:
+        ref_rows, c, _ = sample_full_rows(spec, rows, "auto", ref_opts)
+        ref = None
+        print(f"reference {key}: auto {ref_opts} on {len(rows)} rows: CPU {c:.1f} s", flush=True)
+    else:
+        res, c, w = cpu_wall(lambda: nusselt.form_factors(scene, method="auto", **ref_opts))
+        print(f"reference {key}: auto {ref_opts}: CPU {c:.1f} s, wall {w:.1f} s", flush=True)
+        ref, ref_rows = res, res.dense()[rows]
+
+    def sampled_errors(f):
+        return {
+            "row_surface_err": float(np.abs((f - ref_rows) @ onehot).max()),
+            "patch_err": float(np.abs(f - ref_rows).max()),
+        }
+
+    out = []
+    for method in args.methods:
+        line = {"scene": key, "patches": n, "method": method}
+        if not nusselt.METHODS[method].obstructed:
+            try:
+                _, c, w = cpu_wall(lambda: nusselt.form_factors(scene, method=method))
+                line.update(cpu=c, wall=w, note="ran on an obstructed scene")
+            except ValueError as e:
+                line["note"] = f"refuses: {str(e)[:160]}"
+            out.append(line)
+            print(json.dumps(line), flush=True)
+            continue
+        try:
+            f, c, share = sample_full_rows(spec, rows, method)
+        except ValueError as e:
+            line["note"] = f"error on sampled rows: {e}"
+            out.append(line)
+            print(json.dumps(line), flush=True)
+            continue
+        line.update(sample_cpu=c, projected_cpu=c / share, **sampled_errors(f))
+        if c / share <= args.cap:
+            res, c, w = cpu_wall(lambda: nusselt.form_factors(scene, method=method))
+            line.update(cpu=c, wall=w, sampled=False)
+            line.update(errors(res, ref) if ref is not None else sampled_errors(res.dense()[rows]))
+            line["note"] = "whole scene"
+        else:
+            line.update(cpu=c / share, sampled=True, note=f"{len(rows)} rows, CPU projected")
+        line["load"] = os.getloadavg()[0]
+        out.append(line)
+        print(json.dumps(line), flush=True)
+    return out
 
 
 def budget(args):
@@ -489,7 +525,9 @@ def main():
     t = sub.add_parser("scenes")
     t.add_argument("--scenes", nargs="+", default=["room", "office", "urban"])
     t.add_argument("--methods", nargs="+", default=ALL_METHODS)
-    t.add_argument("--rows", type=int, default=12, help="rows sampled on the big scenes")
+    t.add_argument("--rows", type=int, default=24, help="rows sampled on the big scenes")
+    t.add_argument("--cap", type=float, default=60.0, help="CPU s above which a method is only sampled")
+    t.add_argument("--sampled-reference", action="store_true", help="the reference on the sample rows only")
     t.add_argument("--json")
     t.add_argument("--plot", help="write the accuracy-vs-CPU plot (PNG) here")
     c.add_argument(
