@@ -2,7 +2,7 @@
 
 use super::gauss::{check_order, gauss_jacobi10, gauss_legendre, MAX_ORDER};
 use crate::error::Result;
-use crate::geometry::{Polygon, Vec3};
+use crate::geometry::{turn_about, turns_left, Polygon, Vec3};
 
 /// Quadrature points and weights on a polygon: Σ w_k f(x_k) ≈ ∫_P f dA, Σ w_k = area.
 ///
@@ -28,7 +28,8 @@ impl AreaRule {
         let v = poly.vertices();
         let n = poly.normal();
         let mut rule = AreaRule { points: Vec::new(), weights: Vec::new() };
-        if v.len() == 4 && convex_quad(v, n) {
+        if v.len() == 4 && turns_left(v, turn_about(n), 1e-12) {
+            // strictly convex: the bilinear map is one-to-one
             rule.push_quad(v, n, order);
         } else if v.len() == 3 {
             rule.push_triangle(v[0], v[1], v[2], n, order);
@@ -108,11 +109,6 @@ pub(crate) fn triangle_rule(
     })
 }
 
-/// Convex (strictly, counter-clockwise about n) quadrilateral: every corner turns left.
-fn convex_quad(v: &[Vec3], n: Vec3) -> bool {
-    let scale = (v[2] - v[0]).length_squared().max((v[3] - v[1]).length_squared());
-    (0..4).all(|i| (v[(i + 1) % 4] - v[i]).cross(v[(i + 2) % 4] - v[(i + 1) % 4]).dot(n) > 1e-12 * scale)
-}
 #[cfg(test)]
 pub(crate) mod tests {
     use super::*;
