@@ -576,7 +576,7 @@ pub fn plane_tol(own: f64, reach: f64) -> f64 {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
 
     /// A needle triangle (smallest angle ~1e-9) with coordinates k 2^-20 (k < 2^32), whose
@@ -609,6 +609,18 @@ mod tests {
         );
     }
 
+    /// The concave L of three unit squares in z = 0 (area 3, facing +z).
+    pub(crate) fn ell() -> Vec<Vec3> {
+        vec![
+            Vec3::new(0., 0., 0.),
+            Vec3::new(2., 0., 0.),
+            Vec3::new(2., 1., 0.),
+            Vec3::new(1., 1., 0.),
+            Vec3::new(1., 2., 0.),
+            Vec3::new(0., 2., 0.),
+        ]
+    }
+
     fn sq(s: f64) -> Vec<Vec3> {
         vec![Vec3::new(0., 0., 0.), Vec3::new(s, 0., 0.), Vec3::new(s, s, 0.), Vec3::new(0., s, 0.)]
     }
@@ -631,14 +643,7 @@ mod tests {
 
     #[test]
     fn concave_l_shape_area_and_triangulation() {
-        let v = vec![
-            Vec3::new(0., 0., 0.),
-            Vec3::new(2., 0., 0.),
-            Vec3::new(2., 1., 0.),
-            Vec3::new(1., 1., 0.),
-            Vec3::new(1., 2., 0.),
-            Vec3::new(0., 2., 0.),
-        ];
+        let v = ell();
         let p = Polygon::new(v.clone()).unwrap();
         assert!((p.area() - 3.0).abs() < 1e-14);
         let tri_area: f64 =

@@ -74,7 +74,7 @@ pub enum SourcePoints {
     /// onto the patch (stratified: use a power of two), equal weights 1/n. 1 <= n <= 4096.
     Points(u32),
     /// A k x k Gauss-Legendre product rule on the patch (bilinear map for a convex quad,
-    /// collapsed map per triangle otherwise, see [`crate::sampling::polygon_gauss_points`]):
+    /// collapsed map per triangle otherwise, see [`crate::quadrature::polygon_gauss_points`]):
     /// converges much faster than random points where F_{dA -> A_j} varies smoothly over the
     /// patch. 1 <= k <= 16.
     Gauss(u32),
@@ -119,7 +119,7 @@ impl SourcePoints {
     pub(crate) fn generate(&self, poly: &Polygon, scene_size: f64, seed: u64, i: usize, out: &mut Vec<(Vec3, f64)>) {
         out.clear();
         if let SourcePoints::Gauss(k) = *self {
-            crate::sampling::polygon_gauss_points(poly, k as usize, out);
+            crate::quadrature::polygon_gauss_points(poly, k as usize, out);
             return;
         }
         let n = match *self {
@@ -128,7 +128,7 @@ impl SourcePoints {
             SourcePoints::Auto => {
                 let rho = poly.radius() / (AUTO_REL_SIZE * scene_size.max(f64::MIN_POSITIVE));
                 if rho > 1.0 {
-                    crate::sampling::polygon_gauss_points(poly, rho.ceil().min(AUTO_MAX_ORDER as f64) as usize, out);
+                    crate::quadrature::polygon_gauss_points(poly, rho.ceil().min(AUTO_MAX_ORDER as f64) as usize, out);
                     return;
                 }
                 0
