@@ -27,6 +27,40 @@ pub enum GeometryError {
     SelfIntersecting(usize, usize),
 }
 
+impl GeometryError {
+    /// A short stable name of the problem, for callers that act on it rather than print it.
+    pub fn kind(&self) -> &'static str {
+        match self {
+            GeometryError::NonFinite(_) => "non_finite",
+            GeometryError::TooFewVertices(_) => "too_few_vertices",
+            GeometryError::ZeroArea => "zero_area",
+            GeometryError::NonPlanar { .. } => "non_planar",
+            GeometryError::SelfIntersecting(..) => "self_intersecting",
+        }
+    }
+
+    /// The polygon has no area to speak of (a `repair` may drop it instead of refusing it).
+    pub fn is_degenerate(&self) -> bool {
+        matches!(self, GeometryError::TooFewVertices(_) | GeometryError::ZeroArea)
+    }
+}
+
+/// Validates every outline in turn: outline k becomes a [`Polygon`] or an
+/// [`Error::Geometry`](crate::Error::Geometry) with index k, so that the caller, which knows
+/// where each outline came from (a file line, a named object), can name the face.
+pub fn validate_all(
+    outlines: impl IntoIterator<Item = Vec<Vec3>>,
+    planarity_tol: f64,
+) -> Vec<Result<Polygon, crate::Error>> {
+    outlines
+        .into_iter()
+        .enumerate()
+        .map(|(index, v)| {
+            Polygon::with_tolerance(v, planarity_tol).map_err(|source| crate::Error::Geometry { index, source })
+        })
+        .collect()
+}
+
 /// A validated planar polygon with its derived quantities.
 #[derive(Debug, Clone)]
 pub struct Polygon {
@@ -626,6 +660,38 @@ pub(crate) mod tests {
     }
 
     #[test]
+    fn convexity_test_in_two_and_three_dimensions() {
+        let square = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]];
+        assert!(turns_left(&square, turn_2d, 1e-12));
+        let clockwise: Vec<[f64; 2]> = square.iter().rev().copied().collect();
+        assert!(!turns_left(&clockwise, turn_2d, -1e-12));
+        // a vertex on an edge: straight, so convex only when straight corners are allowed
+        let on_edge = [[0.0, 0.0], [0.5, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]];
+        assert!(turns_left(&on_edge, turn_2d, -1e-12) && !turns_left(&on_edge, turn_2d, 1e-12));
+        // the L of three unit squares has one right turn (at (1, 1))
+        let ell = [[0.0, 0.0], [2.0, 0.0], [2.0, 1.0], [1.0, 1.0], [1.0, 2.0], [0.0, 2.0]];
+        assert!(!turns_left(&ell, turn_2d, -1e-12));
+        // the threshold is relative to the edges: a dent of relative depth 1e-9 is seen at any scale
+        for scale in [1e-6, 1.0, 1e6] {
+            let dent: Vec<[f64; 2]> = [[0.0, 0.0], [0.5, 1e-9], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]]
+                .map(|[x, y]| [x * scale, y * scale])
+                .into();
+            assert!(!turns_left(&dent, turn_2d, -1e-12), "scale {scale}");
+        }
+        // 3-D: the square tilted out of the xy plane is convex about its own normal only
+        let r = glam::DQuat::from_axis_angle(Vec3::new(1.0, 2.0, 3.0).normalize(), 0.7);
+        let v: Vec<Vec3> = sq(3.0).into_iter().map(|x| r * x).collect();
+        let n = r * Vec3::Z;
+        assert!(turns_left(&v, turn_about(n), 1e-12));
+        assert!(!turns_left(&v, turn_about(-n), -1e-12));
+        // the 3-D turn is the 2-D one of the projection
+        let p = project_2d(&v, n);
+        let (c3, s3) = turn_about(n)(v[0], v[1], v[2]);
+        let (c2, s2) = turn_2d(p[0], p[1], p[2]);
+        assert!((c3 - c2).abs() < 1e-13 * s3 && (s3 - s2).abs() < 1e-13 * s3);
+    }
+
+    #[test]
     fn square_quantities() {
         let p = Polygon::new(sq(2.0)).unwrap();
         assert!((p.area() - 4.0).abs() < 1e-15);
@@ -670,35 +736,24 @@ pub(crate) mod tests {
     }
 
     #[test]
-    fn convexity_test_in_two_and_three_dimensions() {
-        let square = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]];
-        assert!(turns_left(&square, turn_2d, 1e-12));
-        let clockwise: Vec<[f64; 2]> = square.iter().rev().copied().collect();
-        assert!(!turns_left(&clockwise, turn_2d, -1e-12));
-        // a vertex on an edge: straight, so convex only when straight corners are allowed
-        let on_edge = [[0.0, 0.0], [0.5, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]];
-        assert!(turns_left(&on_edge, turn_2d, -1e-12) && !turns_left(&on_edge, turn_2d, 1e-12));
-        // the L of three unit squares has one right turn (at (1, 1))
-        let ell = [[0.0, 0.0], [2.0, 0.0], [2.0, 1.0], [1.0, 1.0], [1.0, 2.0], [0.0, 2.0]];
-        assert!(!turns_left(&ell, turn_2d, -1e-12));
-        // the threshold is relative to the edges: a dent of relative depth 1e-9 is seen at any scale
-        for scale in [1e-6, 1.0, 1e6] {
-            let dent: Vec<[f64; 2]> = [[0.0, 0.0], [0.5, 1e-9], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]]
-                .map(|[x, y]| [x * scale, y * scale])
-                .into();
-            assert!(!turns_left(&dent, turn_2d, -1e-12), "scale {scale}");
+    fn every_outline_is_validated_with_its_index() {
+        let outlines = vec![sq(1.0), vec![Vec3::ZERO, Vec3::X, 2.0 * Vec3::X], sq(2.0), vec![Vec3::ZERO, Vec3::X]];
+        let r = validate_all(outlines, 1e-6);
+        assert!(r[0].is_ok() && r[2].is_ok());
+        let err = r[1].as_ref().unwrap_err();
+        assert_eq!(err, &crate::Error::Geometry { index: 1, source: GeometryError::ZeroArea });
+        assert_eq!(err.to_string(), "polygon 1 has zero area (all vertices collinear or coincident)");
+        match &r[3] {
+            Err(crate::Error::Geometry { index: 3, source }) => {
+                assert_eq!(source.kind(), "too_few_vertices");
+                assert!(source.is_degenerate());
+            }
+            other => panic!("{other:?}"),
         }
-        // 3-D: the square tilted out of the xy plane is convex about its own normal only
-        let r = glam::DQuat::from_axis_angle(Vec3::new(1.0, 2.0, 3.0).normalize(), 0.7);
-        let v: Vec<Vec3> = sq(3.0).into_iter().map(|x| r * x).collect();
-        let n = r * Vec3::Z;
-        assert!(turns_left(&v, turn_about(n), 1e-12));
-        assert!(!turns_left(&v, turn_about(-n), -1e-12));
-        // the 3-D turn is the 2-D one of the projection
-        let p = project_2d(&v, n);
-        let (c3, s3) = turn_about(n)(v[0], v[1], v[2]);
-        let (c2, s2) = turn_2d(p[0], p[1], p[2]);
-        assert!((c3 - c2).abs() < 1e-13 * s3 && (s3 - s2).abs() < 1e-13 * s3);
+        let bow = vec![Vec3::ZERO, Vec3::new(1., 1., 0.), Vec3::X, Vec3::Y];
+        let e = Polygon::new(bow).unwrap_err();
+        assert_eq!(e.kind(), "self_intersecting");
+        assert!(!e.is_degenerate());
     }
 
     #[test]
