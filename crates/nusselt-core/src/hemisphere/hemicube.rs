@@ -444,15 +444,7 @@ mod tests {
     fn occluded_half() {
         // Source at origin facing +z; receiver [-.5,.5]^2 at z = 2; blocker [-.5,0]x[-.5,.5]
         // at z = 1 shadows exactly the receiver's x < 0 half.
-        let recv = quad(
-            Vec3::new(-0.5, -0.5, 2.),
-            Vec3::new(-0.5, 0.5, 2.),
-            Vec3::new(0.5, 0.5, 2.),
-            Vec3::new(0.5, -0.5, 2.),
-        );
-        let block =
-            quad(Vec3::new(-0.5, -0.5, 1.), Vec3::new(-0.5, 0.5, 1.), Vec3::new(0., 0.5, 1.), Vec3::new(0., -0.5, 1.));
-        let scene = tiny_source_facing(vec![recv, block], Vec3::ZERO, Vec3::Z);
+        let scene = tiny_source_facing(half_blocked().to_vec(), Vec3::ZERO, Vec3::Z);
         let rec = vec![true; 3];
         let o = HemicubeOptions { resolution: 512, source: SourcePoints::Centre, ..Default::default() };
         let r = hemicube_row(&scene, &rec, 0, &o).unwrap();

@@ -384,6 +384,30 @@ pub(crate) mod testkit {
         Polygon::new(vec![a, b, c, d]).unwrap()
     }
 
+    /// A square of half-width e about `centre` in its z plane, facing +z (a near-point source).
+    pub fn small_square(centre: Vec3, e: f64) -> Polygon {
+        quad(
+            centre + Vec3::new(-e, -e, 0.),
+            centre + Vec3::new(e, -e, 0.),
+            centre + Vec3::new(e, e, 0.),
+            centre + Vec3::new(-e, e, 0.),
+        )
+    }
+
+    /// The receiver [-1/2, 1/2]^2 at z = 2 and a blocker [-1/2, 0] x [-1/2, 1/2] at z = 1, both
+    /// facing -z: seen from the origin the blocker hides exactly the receiver's x < 0 half.
+    pub fn half_blocked() -> [Polygon; 2] {
+        let recv = quad(
+            Vec3::new(-0.5, -0.5, 2.),
+            Vec3::new(-0.5, 0.5, 2.),
+            Vec3::new(0.5, 0.5, 2.),
+            Vec3::new(0.5, -0.5, 2.),
+        );
+        let block =
+            quad(Vec3::new(-0.5, -0.5, 1.), Vec3::new(-0.5, 0.5, 1.), Vec3::new(0., 0.5, 1.), Vec3::new(0., -0.5, 1.));
+        [recv, block]
+    }
+
     /// Unit square in z = 0 facing +z and unit square in z = h facing -z (Howell C-11 pair).
     pub fn parallel_squares(h: f64) -> Vec<Polygon> {
         vec![

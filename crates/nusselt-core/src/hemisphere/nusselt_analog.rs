@@ -171,17 +171,8 @@ mod tests {
 
     #[test]
     fn occluded_half() {
-        let e = 1e-4;
-        let scene = vec![
-            quad(Vec3::new(-e, -e, 0.), Vec3::new(e, -e, 0.), Vec3::new(e, e, 0.), Vec3::new(-e, e, 0.)),
-            quad(
-                Vec3::new(-0.5, -0.5, 2.),
-                Vec3::new(-0.5, 0.5, 2.),
-                Vec3::new(0.5, 0.5, 2.),
-                Vec3::new(0.5, -0.5, 2.),
-            ),
-            quad(Vec3::new(-0.5, -0.5, 1.), Vec3::new(-0.5, 0.5, 1.), Vec3::new(0., 0.5, 1.), Vec3::new(0., -0.5, 1.)),
-        ];
+        let [recv, block] = half_blocked();
+        let scene = vec![small_square(Vec3::ZERO, 1e-4), recv, block];
         let r = row(&scene, 0, &NusseltOptions { cells: 1 << 16, source: SourcePoints::Centre, ..Default::default() });
         assert!((r.get(1) - 2.0 * corner_rect(0.25, 0.25)).abs() < 1e-3, "{r:?}");
         assert!((r.get(2) - 2.0 * corner_rect(0.5, 0.5)).abs() < 1e-3, "{r:?}");

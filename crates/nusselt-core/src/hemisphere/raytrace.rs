@@ -170,17 +170,8 @@ mod tests {
             assert!((r.sum() - 1.0).abs() < 1e-12);
         }
         // blocker halves the receiver (see hemicube::occluded_half); source is a small patch
-        let e = 1e-3;
-        let scene = vec![
-            quad(Vec3::new(-e, -e, 0.), Vec3::new(e, -e, 0.), Vec3::new(e, e, 0.), Vec3::new(-e, e, 0.)),
-            quad(
-                Vec3::new(-0.5, -0.5, 2.),
-                Vec3::new(-0.5, 0.5, 2.),
-                Vec3::new(0.5, 0.5, 2.),
-                Vec3::new(0.5, -0.5, 2.),
-            ),
-            quad(Vec3::new(-0.5, -0.5, 1.), Vec3::new(-0.5, 0.5, 1.), Vec3::new(0., 0.5, 1.), Vec3::new(0., -0.5, 1.)),
-        ];
+        let [recv, block] = half_blocked();
+        let scene = vec![small_square(Vec3::ZERO, 1e-3), recv, block];
         let r = row(&scene, 0, &RaytraceOptions { rays: 1 << 16, seed: 1, ..Default::default() });
         assert!(within(&r, 1, 2.0 * corner_rect(0.25, 0.25)), "{r:?}");
         assert!(within(&r, 2, 2.0 * corner_rect(0.5, 0.5)), "{r:?}");

@@ -461,16 +461,6 @@ mod tests {
         }
     }
 
-    fn tiny(centre: Vec3) -> Polygon {
-        let e = 1e-4;
-        quad(
-            centre + Vec3::new(-e, -e, 0.),
-            centre + Vec3::new(e, -e, 0.),
-            centre + Vec3::new(e, e, 0.),
-            centre + Vec3::new(-e, e, 0.),
-        )
-    }
-
     #[test]
     fn point_cases_exact_without_overlap() {
         // One receiver only: rule 1 everywhere, so the value is exact (Lambert).
@@ -480,7 +470,7 @@ mod tests {
             Vec3::new(0.5, 0.5, 1.),
             Vec3::new(0.5, -0.5, 1.),
         );
-        let scene = vec![tiny(Vec3::ZERO), recv];
+        let scene = vec![small_square(Vec3::ZERO, 1e-4), recv];
         let o = SinglePlaneOptions { source: SourcePoints::Centre, ..Default::default() };
         let r = single_plane_row(&scene, &[true, true], 0, &o).unwrap();
         let exact = 4.0 * corner_rect(0.5, 0.5);
@@ -491,15 +481,8 @@ mod tests {
 
     #[test]
     fn occluded_half() {
-        let recv = quad(
-            Vec3::new(-0.5, -0.5, 2.),
-            Vec3::new(-0.5, 0.5, 2.),
-            Vec3::new(0.5, 0.5, 2.),
-            Vec3::new(0.5, -0.5, 2.),
-        );
-        let block =
-            quad(Vec3::new(-0.5, -0.5, 1.), Vec3::new(-0.5, 0.5, 1.), Vec3::new(0., 0.5, 1.), Vec3::new(0., -0.5, 1.));
-        let scene = vec![tiny(Vec3::ZERO), recv, block];
+        let [recv, block] = half_blocked();
+        let scene = vec![small_square(Vec3::ZERO, 1e-4), recv, block];
         let o = SinglePlaneOptions { source: SourcePoints::Centre, ..Default::default() };
         let r = single_plane_row(&scene, &[true; 3], 0, &o).unwrap();
         let (fr, fb) = (2.0 * corner_rect(0.25, 0.25), 2.0 * corner_rect(0.5, 0.5));

@@ -135,18 +135,24 @@ pub fn parallel_rectangles_general(
         let sv = (v * v + z * z).sqrt();
         (v * su * (v / su).atan() + u * sv * (u / sv).atan() - 0.5 * z * z * (u * u + v * v + z * z).ln()) / (2.0 * PI)
     };
+    Ok(corner_sum([x1, x2], [y1, y2], [eta1, eta2], [xi1, xi2], g) / ((x2 - x1) * (y2 - y1)))
+}
+
+/// Σ (-1)^(i+j+k+l) g(x_i, y_j, eta_k, xi_l) over the 16 corners of two aligned rectangles'
+/// coordinate intervals: the general rectangle formulas are this sum of a corner function.
+fn corner_sum(x: [f64; 2], y: [f64; 2], eta: [f64; 2], xi: [f64; 2], g: impl Fn(f64, f64, f64, f64) -> f64) -> f64 {
     let mut sum = 0.0;
-    for (i, x) in [x1, x2].into_iter().enumerate() {
-        for (j, y) in [y1, y2].into_iter().enumerate() {
-            for (k, eta) in [eta1, eta2].into_iter().enumerate() {
-                for (m, xi) in [xi1, xi2].into_iter().enumerate() {
+    for (i, x) in x.into_iter().enumerate() {
+        for (j, y) in y.into_iter().enumerate() {
+            for (k, eta) in eta.into_iter().enumerate() {
+                for (m, xi) in xi.into_iter().enumerate() {
                     let sign = if (i + j + k + m) % 2 == 0 { 1.0 } else { -1.0 };
                     sum += sign * g(x, y, eta, xi);
                 }
             }
         }
     }
-    Ok(sum / ((x2 - x1) * (y2 - y1)))
+    sum
 }
 
 /// Perpendicular rectangles in arbitrary aligned position with the common axis y (Howell
@@ -185,18 +191,7 @@ pub fn perpendicular_rectangles_general(
         let b = if r2 > 0.0 { 0.25 * (s2 - v * v) * r2.ln() } else { 0.0 };
         (a - b) / (2.0 * PI)
     };
-    let mut sum = 0.0;
-    for (i, x) in [x1, x2].into_iter().enumerate() {
-        for (j, y) in [y1, y2].into_iter().enumerate() {
-            for (k, eta) in [eta1, eta2].into_iter().enumerate() {
-                for (m, xi) in [xi1, xi2].into_iter().enumerate() {
-                    let sign = if (i + j + k + m) % 2 == 0 { 1.0 } else { -1.0 };
-                    sum += sign * g(x, y, eta, xi);
-                }
-            }
-        }
-    }
-    Ok(sum / ((x2 - x1) * (y2 - y1)))
+    Ok(corner_sum([x1, x2], [y1, y2], [eta1, eta2], [xi1, xi2], g) / ((x2 - x1) * (y2 - y1)))
 }
 
 /// Differential area parallel to a rectangle `a` x `b` whose corner lies on the element's
