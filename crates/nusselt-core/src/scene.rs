@@ -79,7 +79,11 @@ impl Default for AllOptions {
 impl AllOptions {
     pub fn check(&self) -> Result<()> {
         self.exact.check()?;
-        self.vis.check()
+        self.vis.check()?;
+        self.hemicube.check()?;
+        self.single_plane.check()?;
+        self.raytrace.check()?;
+        self.nusselt.check()
     }
 }
 

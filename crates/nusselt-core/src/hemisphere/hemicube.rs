@@ -27,6 +27,7 @@
 use super::{row_over_points, Accum, Points, RowResult, SourcePoints};
 use crate::error::{Error, Result};
 use crate::geometry::{Polygon, Vec3};
+use crate::registry::{check_field, Value};
 use std::cell::RefCell;
 use std::f64::consts::PI;
 
@@ -54,15 +55,23 @@ pub struct HemicubeOptions {
 
 impl Default for HemicubeOptions {
     fn default() -> Self {
-        HemicubeOptions { resolution: 128, source: SourcePoints::Auto, random_rotation: true, seed: 0, near: 1e-6 }
+        use crate::registry::{default_bool, default_source, default_u64};
+        HemicubeOptions {
+            resolution: default_u64("hemicube", "resolution") as u32,
+            source: default_source("hemicube").0,
+            random_rotation: default_bool("hemicube", "random_rotation"),
+            seed: default_u64("hemicube", "seed"),
+            near: 1e-6,
+        }
     }
 }
 
 impl HemicubeOptions {
     pub fn check(&self) -> Result<()> {
         let r = self.resolution;
-        if !(4..=4096).contains(&r) || !r.is_multiple_of(2) {
-            return Err(Error::InvalidArgument(format!("hemicube resolution must be even and in 4..=4096, got {r}")));
+        check_field("hemicube", "resolution", Value::Int(r.into()))?;
+        if !r.is_multiple_of(2) {
+            return Err(Error::InvalidArgument(format!("method \"hemicube\": option resolution={r} must be even")));
         }
         if !(self.near > 0.0 && self.near <= 0.1) {
             return Err(Error::InvalidArgument(format!("hemicube near must be in (0, 0.1], got {}", self.near)));

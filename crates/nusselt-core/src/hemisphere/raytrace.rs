@@ -14,8 +14,9 @@
 //! estimate of the actual QMC error.
 
 use super::{row_over_points, Points, RowResult};
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::geometry::Polygon;
+use crate::registry::{check_field, Value};
 use crate::sampling::{cosine_hemisphere, hash_seed, sobol4, PolygonSampler};
 use crate::visibility::Visibility;
 
@@ -44,19 +45,19 @@ pub struct RaytraceOptions {
 
 impl Default for RaytraceOptions {
     fn default() -> Self {
-        RaytraceOptions { rays: 4096, seed: 0, row_tol: 0.0 }
+        use crate::registry::{default_f64, default_u64};
+        RaytraceOptions {
+            rays: default_u64("raytrace", "rays") as u32,
+            seed: default_u64("raytrace", "seed"),
+            row_tol: default_f64("raytrace", "row_tol"),
+        }
     }
 }
 
 impl RaytraceOptions {
     pub fn check(&self) -> Result<()> {
-        if self.rays == 0 || self.rays > MAX_RAYS {
-            return Err(Error::InvalidArgument(format!("raytrace rays must be in 1..={MAX_RAYS}, got {}", self.rays)));
-        }
-        if !(self.row_tol >= 0.0 && self.row_tol <= 0.5) {
-            return Err(Error::InvalidArgument(format!("raytrace row_tol must be in [0, 0.5], got {}", self.row_tol)));
-        }
-        Ok(())
+        check_field("raytrace", "rays", Value::Int(self.rays.into()))?;
+        check_field("raytrace", "row_tol", Value::Float(self.row_tol))
     }
 }
 
@@ -125,6 +126,7 @@ mod tests {
     use super::super::brute::BruteForce;
     use super::super::testkit::*;
     use super::*;
+    use crate::error::Error;
     use crate::geometry::Vec3;
 
     fn row(scene: &[Polygon], i: usize, o: &RaytraceOptions) -> RowResult {

@@ -33,6 +33,7 @@ use super::hemicube::{phi, top_cell};
 use super::{row_over_points, Accum, Points, RowResult, SourcePoints};
 use crate::error::{Error, Result};
 use crate::geometry::{Polygon, Vec3};
+use crate::registry::{check_field, Value};
 use std::cell::RefCell;
 use std::f64::consts::PI;
 
@@ -59,12 +60,13 @@ pub struct SinglePlaneOptions {
 
 impl Default for SinglePlaneOptions {
     fn default() -> Self {
+        use crate::registry::{default_bool, default_f64, default_source, default_u64};
         SinglePlaneOptions {
-            half_width: 14.0,
-            min_cell: 1.0 / 128.0,
-            source: SourcePoints::Auto,
-            random_rotation: true,
-            seed: 0,
+            half_width: default_f64("single-plane", "half_width"),
+            min_cell: default_f64("single-plane", "min_cell"),
+            source: default_source("single-plane").0,
+            random_rotation: default_bool("single-plane", "random_rotation"),
+            seed: default_u64("single-plane", "seed"),
             near: 1e-6,
         }
     }
@@ -72,18 +74,8 @@ impl Default for SinglePlaneOptions {
 
 impl SinglePlaneOptions {
     pub fn check(&self) -> Result<()> {
-        if !(self.half_width >= 0.5 && self.half_width <= 1e4) {
-            return Err(Error::InvalidArgument(format!(
-                "single-plane half_width must be in [0.5, 1e4], got {}",
-                self.half_width
-            )));
-        }
-        if !(self.min_cell >= 1e-4 && self.min_cell <= 1.0) {
-            return Err(Error::InvalidArgument(format!(
-                "single-plane min_cell must be in [1e-4, 1], got {}",
-                self.min_cell
-            )));
-        }
+        check_field("single-plane", "half_width", Value::Float(self.half_width))?;
+        check_field("single-plane", "min_cell", Value::Float(self.min_cell))?;
         if !(self.near > 0.0 && self.near <= 0.1) {
             return Err(Error::InvalidArgument(format!("single-plane near must be in (0, 0.1], got {}", self.near)));
         }
