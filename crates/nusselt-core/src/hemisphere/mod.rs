@@ -15,7 +15,7 @@
 //! horizon band the plane misses. `RowResult::lost` reports that fraction. Hits on
 //! polygons that are not receivers are blocked and simply not reported (they are not lost).
 //!
-//! One loop serves all four ([`row_over_points`]): it checks the arguments, places the source
+//! One loop serves all four (`row_over_points`): it checks the arguments, places the source
 //! points with their (randomly rotated) tangent frames, keeps the per-thread accumulator over
 //! patch ids and reads the row out; a method supplies only what one eye sees.
 //!

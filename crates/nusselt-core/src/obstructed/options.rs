@@ -22,7 +22,7 @@ pub enum VisMethod {
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct VisOptions {
-    /// Unobstructed accuracy target of `auto` (relative), see [`method::Options::tol`].
+    /// Unobstructed accuracy target of `auto` (relative), see [`crate::unobstructed::method::Options::tol`].
     pub exact_tol: f64,
     /// `clipping` and obstructed pairs of `auto`: error target on F relative to the pair's
     /// unobstructed F (so also an absolute bound on F, and row sums in a scene are within
@@ -40,7 +40,7 @@ pub struct VisOptions {
     /// `subdivision`: each receiver triangle is split into divisions^2 pieces.
     pub divisions: usize,
     /// `subdivision` / `adaptive`: source points. None (default): the source is cut along
-    /// its kink lines (see [`split_at_kinks`]), each piece gets its centroid and the largest
+    /// its kink lines (see `kinks::split_at_kinks`), each piece gets its centroid and the largest
     /// Radon's 7-point rule, at most 64 points beyond one per piece (`rules::area_source_points`);
     /// Some(0) is the centroid alone, Some(k) a k x k Gauss rule per source triangle or quad
     /// (always a normalised weighted sum).

@@ -569,7 +569,7 @@ impl Visibility for Bvh {
         self.collect(&Shaft::new(a, b, self.max_abs), ignore, out);
     }
 
-    /// The polygons meeting the hull of a and the box (the shaft of [`Shaft::toward_box`],
+    /// The polygons meeting the hull of a and the box (the shaft of `Shaft::toward_box`,
     /// tested like [`Visibility::candidates_between`]'s).
     fn candidates_toward_box(
         &self,
