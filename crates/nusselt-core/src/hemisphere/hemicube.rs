@@ -286,14 +286,7 @@ fn project_polygon(
     near: f64,
     res: usize,
 ) {
-    s.local.clear();
-    let mut zmax = f64::NEG_INFINITY;
-    for x in poly.vertices() {
-        let d = *x - eye;
-        let q = Vec3::new(d.dot(u), d.dot(v), d.dot(n));
-        zmax = zmax.max(q.z);
-        s.local.push(q);
-    }
+    let zmax = super::to_local(poly, eye, [u, v, n], &mut s.local);
     if zmax <= near {
         return; // behind the element (or in its plane)
     }

@@ -374,6 +374,21 @@ pub(crate) mod brute {
     }
 }
 
+/// `poly`'s vertices in the frame (u, v, n) at `eye`, written to `out`; returns the largest
+/// height along n (the hemicube and the single plane clip at a near height).
+#[inline]
+fn to_local(poly: &Polygon, eye: Vec3, [u, v, n]: [Vec3; 3], out: &mut Vec<Vec3>) -> f64 {
+    out.clear();
+    let mut zmax = f64::NEG_INFINITY;
+    for x in poly.vertices() {
+        let d = *x - eye;
+        let q = Vec3::new(d.dot(u), d.dot(v), d.dot(n));
+        zmax = zmax.max(q.z);
+        out.push(q);
+    }
+    zmax
+}
+
 /// Scenes and exact references shared by the method tests.
 #[cfg(test)]
 pub(crate) mod testkit {

@@ -373,14 +373,7 @@ pub fn single_plane_row(
 /// plane window; stores it with its inverse-depth plane.
 #[allow(clippy::too_many_arguments)]
 fn project(s: &mut Scratch, poly: &Polygon, id: u32, eye: Vec3, u: Vec3, v: Vec3, n: Vec3, near: f64, root: [f64; 4]) {
-    s.local.clear();
-    let mut zmax = f64::NEG_INFINITY;
-    for x in poly.vertices() {
-        let d = *x - eye;
-        let q = Vec3::new(d.dot(u), d.dot(v), d.dot(n));
-        zmax = zmax.max(q.z);
-        s.local.push(q);
-    }
+    let zmax = super::to_local(poly, eye, [u, v, n], &mut s.local);
     if zmax <= near {
         return;
     }
