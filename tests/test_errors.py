@@ -32,6 +32,27 @@ def test_bad_polygons(poly, message):
         nusselt.view_factor(GOOD, poly)
 
 
+def test_geometry_errors_name_the_polygon_as_the_caller_named_it():
+    line = np.array([[0, 0, 0], [1, 0, 0], [2, 0, 0]], dtype=float)
+    obstacle = rect(0.2, 0.8, 0.2, 0.8, z=0.5)
+    with pytest.raises(ValueError, match=r"^obstacle 1 has zero area"):
+        nusselt.view_factor(GOOD, FACING, obstacles=[obstacle, line])
+    with pytest.raises(ValueError, match=r"^pj has zero area"):
+        nusselt.point_view_factor([0.5, 0.5, 0], [0, 0, 1], line)
+    with pytest.raises(ValueError, match=r"^obstacle 0 has zero area"):
+        nusselt.point_view_factor([0.5, 0.5, 0], [0, 0, 1], FACING, obstacles=[line])
+    # the core reports the position in its list; the binding's exception carries it
+    with pytest.raises(_core.GeometryError) as info:
+        _core.view_factor(GOOD, FACING, [obstacle, line], "clipping", {}, 1e-6)
+    assert isinstance(info.value, ValueError)
+    message, index, kind, reason, degenerate = info.value.args
+    assert (index, kind, degenerate) == (3, "zero_area", True) and message == f"polygon 3 {reason}"
+    # a scene names its face by where it came from
+    bent = np.vstack([GOOD, [[0, 0, 1], [1, 0, 1], [1, 1, 1], [0.0, 1, 1.3]]])
+    with pytest.raises(ValueError, match=r"face 1 \(room\.obj:7\) is not planar"):
+        nusselt.Scene(bent, [np.arange(4), np.arange(4, 8)], origin=["room.obj:3", "room.obj:7"])
+
+
 def test_bad_methods_and_options():
     with pytest.raises(ValueError, match="unknown method"):
         nusselt.view_factor(GOOD, FACING, method="magic")

@@ -8,6 +8,7 @@ from typing_extensions import Self
 
 __all__ = [
     "__version__",
+    "GeometryError",
     "SceneCore",
     "mirror_pairs",
     "pair_reciprocity",
@@ -18,6 +19,10 @@ __all__ = [
 ]
 
 __version__: str
+
+class GeometryError(ValueError):
+    """A polygon failed validation. args: (message, index, kind, reason, degenerate); index is the
+    polygon's position in the list the core was given, and the Python package names the face from it."""
 
 @final
 class SceneCore:
@@ -30,7 +35,7 @@ class SceneCore:
     ) -> Self: ...
     def unobstructed(self) -> bool:
         """True when no polygon of the scene can block another pair."""
-    def errors(self) -> list[str | None]: ...
+    def errors(self) -> list[GeometryError | None]: ...
     def areas(self) -> npt.NDArray[np.float64]: ...
     def normals(self) -> npt.NDArray[np.float64]: ...
     def centroids(self) -> npt.NDArray[np.float64]: ...
@@ -106,23 +111,25 @@ def pair_reciprocity(
 def view_factor(
     a: npt.NDArray[np.float64],
     b: npt.NDArray[np.float64],
-    obstacles_: list[npt.NDArray[np.float64]],
+    obstacles: list[npt.NDArray[np.float64]],
     method: str,
     opts: dict,
     planarity_tol: float,
 ) -> tuple[float, float]:
-    """(F, standard error); KeyboardInterrupt on Ctrl-C, ValueError past the `budget` option."""
+    """(F, standard error); KeyboardInterrupt on Ctrl-C, ValueError past the `budget` option,
+    GeometryError with index a = 0, b = 1, obstacle k = 2 + k."""
 
 def point_view_factor(
     p: npt.NDArray[np.float64],
     n: npt.NDArray[np.float64],
     b: npt.NDArray[np.float64],
-    obstacles_: list[npt.NDArray[np.float64]],
+    obstacles: list[npt.NDArray[np.float64]],
     method: str,
     opts: dict,
     planarity_tol: float,
 ) -> tuple[float, float]:
-    """(F, standard error); KeyboardInterrupt on Ctrl-C, ValueError past the `budget` option."""
+    """(F, standard error); KeyboardInterrupt on Ctrl-C, ValueError past the `budget` option,
+    GeometryError with index b = 0, obstacle k = 1 + k."""
 
 def methods() -> list[dict[str, Any]]:
     """The core's method registry: per method {name, kind ("pairs" | "rows"), obstructed,

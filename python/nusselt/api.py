@@ -15,7 +15,7 @@ from . import checkpoint as _checkpoint
 from .checks import warn_zero_rows
 from .methods import MethodName, resolve
 from .result import FormFactors
-from .scene import PLANARITY_TOL, Scene
+from .scene import PLANARITY_TOL, Scene, geometry_error
 
 
 def _polygon(p, what: str) -> np.ndarray:
@@ -44,6 +44,19 @@ def _obstacles(obstacles) -> list[np.ndarray]:
     return [_polygon(o, f"obstacle {k}") for k, o in enumerate(obstacles)]
 
 
+def _labels(named: tuple[str, ...], obstacles) -> Callable[[int], str]:
+    """Names of the polygons of one call, by their index in the core's list: ``named``
+    first, then the obstacles (a Scene's faces by its own labels)."""
+
+    def label(k: int) -> str:
+        if k < len(named):
+            return named[k]
+        k -= len(named)
+        return f"obstacle {obstacles._face_label(k) if isinstance(obstacles, Scene) else k}"
+
+    return label
+
+
 @overload
 def view_factor(
     pi, pj, *, obstacles=None, method: MethodName = ..., return_std: Literal[False] = ..., **options: Any
@@ -69,7 +82,10 @@ def view_factor(
     a, b = _polygon(pi, "pi"), _polygon(pj, "pj")
     obs = _obstacles(obstacles)
     _, opts = resolve(method, options, obstructed=bool(obs))
-    f, s = _core.view_factor(a, b, obs, method, opts, PLANARITY_TOL)
+    try:
+        f, s = _core.view_factor(a, b, obs, method, opts, PLANARITY_TOL)
+    except _core.GeometryError as err:
+        raise geometry_error(err, _labels(("pi", "pj"), obstacles)) from None
     return (float(f), float(s)) if return_std else float(f)
 
 
@@ -98,7 +114,10 @@ def point_view_factor(
     b = _polygon(pj, "pj")
     obs = _obstacles(obstacles)
     _, opts = resolve(method, options, obstructed=bool(obs))
-    f, s = _core.point_view_factor(p, n / length, b, obs, method, opts, PLANARITY_TOL)
+    try:
+        f, s = _core.point_view_factor(p, n / length, b, obs, method, opts, PLANARITY_TOL)
+    except _core.GeometryError as err:
+        raise geometry_error(err, _labels(("pj",), obstacles)) from None
     return (float(f), float(s)) if return_std else float(f)
 
 

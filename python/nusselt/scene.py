@@ -6,7 +6,7 @@ import dataclasses
 import os
 import types
 import warnings
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from typing import Any
 
 import numpy as np
@@ -19,8 +19,19 @@ from .overlaps import coplanar_overlaps
 #: Default relative planarity tolerance (fraction of a polygon's size).
 PLANARITY_TOL = 1e-6
 
-# The core's messages for faces without area (crates/nusselt-core/src/geometry.rs).
-_DEGENERATE = ("has zero area", "needs at least 3 distinct vertices")
+
+def geometry_error(err: _core.GeometryError, label: Callable[[int], str], where: str = "") -> ValueError:
+    """The core's error about one polygon as the ValueError a user sees, naming the polygon
+    as the input named it: ``label(index)`` for the index the core reports (the polygon's
+    position in the list the core was given). The one place where core geometry errors get
+    face labels."""
+    _, index, _, reason, _ = err.args
+    return ValueError(f"{where}{label(int(index))} {reason}")
+
+
+def _degenerate(err: _core.GeometryError | None) -> bool:
+    """No area to speak of (the core's judgement): ``repair`` drops such faces."""
+    return err is not None and bool(err.args[4])
 
 
 class RepairWarning(NusseltWarning):
@@ -236,22 +247,23 @@ class Scene:
         # Zero-area faces: the core finds them; repair drops them, else the first is an error.
         core = self._build_core(v, face_list, obst, float(planarity_tol))
         errors = core.errors()
-        degenerate = np.array([m is not None and m.startswith(_DEGENERATE) for m in errors])
+        degenerate = np.array([_degenerate(e) for e in errors])
         keep = np.ones(nf, dtype=bool)
         dropped: dict[str, list[int]] = {}
         if degenerate.any():
             if not repair:
                 k = int(np.flatnonzero(degenerate)[0])
+                err = geometry_error(errors[k], self._face_label, where)
                 raise ValueError(
-                    f"{where}{self._face_label(k)} {errors[k]}"
+                    f"{err}"
                     + (f" ({int(degenerate.sum())} faces have no area)" if degenerate.sum() > 1 else "")
                     + "; repair=True (nusselt matrix --repair) drops faces without area"
                 )
             keep &= ~degenerate
             dropped["zero area"] = np.flatnonzero(degenerate).tolist()
-        for k, msg in enumerate(errors):
-            if msg is not None and not degenerate[k]:
-                raise ValueError(f"{where}{self._face_label(k)} {msg}")
+        for k, e in enumerate(errors):
+            if e is not None and not degenerate[k]:
+                raise geometry_error(e, self._face_label, where)
         if not keep.any():
             raise ValueError(f"{where}every face has zero area")
 

@@ -27,6 +27,40 @@ pub enum GeometryError {
     SelfIntersecting(usize, usize),
 }
 
+impl GeometryError {
+    /// A short stable name of the problem, for callers that act on it rather than print it.
+    pub fn kind(&self) -> &'static str {
+        match self {
+            GeometryError::NonFinite(_) => "non_finite",
+            GeometryError::TooFewVertices(_) => "too_few_vertices",
+            GeometryError::ZeroArea => "zero_area",
+            GeometryError::NonPlanar { .. } => "non_planar",
+            GeometryError::SelfIntersecting(..) => "self_intersecting",
+        }
+    }
+
+    /// The polygon has no area to speak of (a `repair` may drop it instead of refusing it).
+    pub fn is_degenerate(&self) -> bool {
+        matches!(self, GeometryError::TooFewVertices(_) | GeometryError::ZeroArea)
+    }
+}
+
+/// Validates every outline in turn: outline k becomes a [`Polygon`] or an
+/// [`Error::Geometry`](crate::Error::Geometry) with index k, so that the caller, which knows
+/// where each outline came from (a file line, a named object), can name the face.
+pub fn validate_all(
+    outlines: impl IntoIterator<Item = Vec<Vec3>>,
+    planarity_tol: f64,
+) -> Vec<Result<Polygon, crate::Error>> {
+    outlines
+        .into_iter()
+        .enumerate()
+        .map(|(index, v)| {
+            Polygon::with_tolerance(v, planarity_tol).map_err(|source| crate::Error::Geometry { index, source })
+        })
+        .collect()
+}
+
 /// A validated planar polygon with its derived quantities.
 #[derive(Debug, Clone)]
 pub struct Polygon {
@@ -158,6 +192,36 @@ pub(crate) fn join_convex<P: Copy + PartialEq>(
         }
     }
     None
+}
+
+/// True when the closed outline `v` turns left at every corner by at least `sine` times the
+/// corner's scale: the one convexity test of the crate. `turn(a, b, c)` gives the cross product
+/// of a -> b and b -> c (positive for a left turn) and its scale (the product of the two
+/// lengths, [`turn_2d`] and [`turn_about`]; a fixed scale makes `sine` an absolute margin).
+/// A small positive `sine` asks for strictly convex corners, a small negative one lets
+/// corners that are straight within rounding pass (a vertex on an edge, as clipping leaves).
+pub(crate) fn turns_left<P: Copy>(v: &[P], turn: impl Fn(P, P, P) -> (f64, f64), sine: f64) -> bool {
+    let m = v.len();
+    (0..m).all(|i| {
+        let (cross, scale) = turn(v[i], v[(i + 1) % m], v[(i + 2) % m]);
+        cross >= sine * scale
+    })
+}
+
+/// The turn at b on the 2-D path a -> b -> c, for [`turns_left`].
+#[inline]
+pub(crate) fn turn_2d(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> (f64, f64) {
+    let (e, f) = ([b[0] - a[0], b[1] - a[1]], [c[0] - b[0], c[1] - b[1]]);
+    (e[0] * f[1] - e[1] * f[0], ((e[0] * e[0] + e[1] * e[1]) * (f[0] * f[0] + f[1] * f[1])).sqrt())
+}
+
+/// The turn at b on the path a -> b -> c about the normal `n` (left = counter-clockwise seen
+/// from the front), for [`turns_left`].
+pub(crate) fn turn_about(n: Vec3) -> impl Fn(Vec3, Vec3, Vec3) -> (f64, f64) {
+    move |a, b, c| {
+        let (e, f) = (b - a, c - b);
+        (e.cross(f).dot(n), (e.length_squared() * f.length_squared()).sqrt())
+    }
 }
 
 /// Joins edge-adjacent outlines greedily, for occluders (coplanar tiles) and for shadows (of
@@ -578,7 +642,7 @@ pub fn plane_tol(own: f64, reach: f64) -> f64 {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
 
     /// A needle triangle (smallest angle ~1e-9) with coordinates k 2^-20 (k < 2^32), whose
@@ -611,8 +675,52 @@ mod tests {
         );
     }
 
+    /// The concave L of three unit squares in z = 0 (area 3, facing +z).
+    pub(crate) fn ell() -> Vec<Vec3> {
+        vec![
+            Vec3::new(0., 0., 0.),
+            Vec3::new(2., 0., 0.),
+            Vec3::new(2., 1., 0.),
+            Vec3::new(1., 1., 0.),
+            Vec3::new(1., 2., 0.),
+            Vec3::new(0., 2., 0.),
+        ]
+    }
+
     fn sq(s: f64) -> Vec<Vec3> {
         vec![Vec3::new(0., 0., 0.), Vec3::new(s, 0., 0.), Vec3::new(s, s, 0.), Vec3::new(0., s, 0.)]
+    }
+
+    #[test]
+    fn convexity_test_in_two_and_three_dimensions() {
+        let square = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]];
+        assert!(turns_left(&square, turn_2d, 1e-12));
+        let clockwise: Vec<[f64; 2]> = square.iter().rev().copied().collect();
+        assert!(!turns_left(&clockwise, turn_2d, -1e-12));
+        // a vertex on an edge: straight, so convex only when straight corners are allowed
+        let on_edge = [[0.0, 0.0], [0.5, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]];
+        assert!(turns_left(&on_edge, turn_2d, -1e-12) && !turns_left(&on_edge, turn_2d, 1e-12));
+        // the L of three unit squares has one right turn (at (1, 1))
+        let ell = [[0.0, 0.0], [2.0, 0.0], [2.0, 1.0], [1.0, 1.0], [1.0, 2.0], [0.0, 2.0]];
+        assert!(!turns_left(&ell, turn_2d, -1e-12));
+        // the threshold is relative to the edges: a dent of relative depth 1e-9 is seen at any scale
+        for scale in [1e-6, 1.0, 1e6] {
+            let dent: Vec<[f64; 2]> = [[0.0, 0.0], [0.5, 1e-9], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]]
+                .map(|[x, y]| [x * scale, y * scale])
+                .into();
+            assert!(!turns_left(&dent, turn_2d, -1e-12), "scale {scale}");
+        }
+        // 3-D: the square tilted out of the xy plane is convex about its own normal only
+        let r = glam::DQuat::from_axis_angle(Vec3::new(1.0, 2.0, 3.0).normalize(), 0.7);
+        let v: Vec<Vec3> = sq(3.0).into_iter().map(|x| r * x).collect();
+        let n = r * Vec3::Z;
+        assert!(turns_left(&v, turn_about(n), 1e-12));
+        assert!(!turns_left(&v, turn_about(-n), -1e-12));
+        // the 3-D turn is the 2-D one of the projection
+        let p = project_2d(&v, n);
+        let (c3, s3) = turn_about(n)(v[0], v[1], v[2]);
+        let (c2, s2) = turn_2d(p[0], p[1], p[2]);
+        assert!((c3 - c2).abs() < 1e-13 * s3 && (s3 - s2).abs() < 1e-13 * s3);
     }
 
     #[test]
@@ -633,14 +741,7 @@ mod tests {
 
     #[test]
     fn concave_l_shape_area_and_triangulation() {
-        let v = vec![
-            Vec3::new(0., 0., 0.),
-            Vec3::new(2., 0., 0.),
-            Vec3::new(2., 1., 0.),
-            Vec3::new(1., 1., 0.),
-            Vec3::new(1., 2., 0.),
-            Vec3::new(0., 2., 0.),
-        ];
+        let v = ell();
         let p = Polygon::new(v.clone()).unwrap();
         assert!((p.area() - 3.0).abs() < 1e-14);
         let tri_area: f64 =
@@ -664,6 +765,27 @@ mod tests {
         assert!(matches!(Polygon::new(v).unwrap_err(), GeometryError::NonPlanar { .. }));
         let bow = vec![Vec3::new(0., 0., 0.), Vec3::new(1., 1., 0.), Vec3::new(1., 0., 0.), Vec3::new(0., 1., 0.)];
         assert!(matches!(Polygon::new(bow).unwrap_err(), GeometryError::SelfIntersecting(..)));
+    }
+
+    #[test]
+    fn every_outline_is_validated_with_its_index() {
+        let outlines = vec![sq(1.0), vec![Vec3::ZERO, Vec3::X, 2.0 * Vec3::X], sq(2.0), vec![Vec3::ZERO, Vec3::X]];
+        let r = validate_all(outlines, 1e-6);
+        assert!(r[0].is_ok() && r[2].is_ok());
+        let err = r[1].as_ref().unwrap_err();
+        assert_eq!(err, &crate::Error::Geometry { index: 1, source: GeometryError::ZeroArea });
+        assert_eq!(err.to_string(), "polygon 1 has zero area (all vertices collinear or coincident)");
+        match &r[3] {
+            Err(crate::Error::Geometry { index: 3, source }) => {
+                assert_eq!(source.kind(), "too_few_vertices");
+                assert!(source.is_degenerate());
+            }
+            other => panic!("{other:?}"),
+        }
+        let bow = vec![Vec3::ZERO, Vec3::new(1., 1., 0.), Vec3::X, Vec3::Y];
+        let e = Polygon::new(bow).unwrap_err();
+        assert_eq!(e.kind(), "self_intersecting");
+        assert!(!e.is_degenerate());
     }
 
     #[test]

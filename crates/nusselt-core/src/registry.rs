@@ -2,17 +2,20 @@
 //! obstacles, and each option's name, type, default, valid range and documentation.
 //!
 //! Everything else reads this table: [`configure`] turns a method name and the options a
-//! caller gave into the core's method and option structs (the defaults a user gets are the
-//! ones written here, whatever the structs' `Default` say), and the Python package builds
+//! caller gave into the core's method and option structs (whose `Default` and `check` read
+//! their defaults and ranges here too, `default_f64`, `check_field`), and the Python package builds
 //! `nusselt.METHODS`, its validation and `nusselt methods` from it (through the binding's
 //! `methods()`). An option name means one thing per method: `tol` of `auto` is the accuracy
 //! of unobstructed pairs, `tol` of `adaptive` the leaf threshold, `tol` of `clipping` the
 //! target on obstructed pairs; the mapping is spelled out per method in [`configure`].
 
 use crate::error::{Error, Result};
+use crate::hemisphere::nusselt_analog::MAX_CELLS;
+use crate::hemisphere::raytrace::MAX_RAYS;
 use crate::hemisphere::SourcePoints;
 use crate::obstructed::VisMethod;
 use crate::scene::{AllOptions, AnyMethod, RowMethod};
+use crate::unobstructed::contour::DEFAULT_NODES;
 use crate::unobstructed::method::Method;
 use crate::work::DEFAULT_BUDGET;
 
@@ -213,7 +216,7 @@ pub static METHODS: &[MethodSpec] = &[
         doc: "double contour (Stokes) integral: exact inner line integral, Gauss-Legendre outer integral on graded panels, \
               exact closed form where edges touch; sums that cancel by more than 2e3 take the same area route as analytic; \
               assumes nothing is in between",
-        options: &[int("nodes", 16, 1, 64, "Gauss-Legendre nodes per edge panel")],
+        options: &[int("nodes", DEFAULT_NODES as u64, 1, 64, "Gauss-Legendre nodes per edge panel")],
     },
     MethodSpec {
         name: "quadrature",
@@ -327,7 +330,7 @@ pub static METHODS: &[MethodSpec] = &[
         doc: "cosine-distributed rays (reverse Nusselt analogy) from area-uniform points, first hit by the BVH; binomial \
               standard error per entry",
         options: &[
-            int("rays", 4096, 1, 1 << 26, "rays per patch (with row_tol: the most a row may cast)"),
+            int("rays", 4096, 1, MAX_RAYS as u64, "rays per patch (with row_tol: the most a row may cast)"),
             float(
                 "row_tol",
                 0.0,
@@ -347,7 +350,7 @@ pub static METHODS: &[MethodSpec] = &[
         doc: "Nusselt analog: equal-area cells of the unit disk lifted to the hemisphere, each resolved to the visible \
               patch; F = covered disk area / pi",
         options: &[
-            int("cells", 4096, 1, 1 << 24, "disk cells (rounded to a square number)"),
+            int("cells", 4096, 1, MAX_CELLS as u64, "disk cells (rounded to a square number)"),
             SOURCE_ROW,
             flag("jitter", true, "a random point per cell instead of its centre"),
             ROTATE,
@@ -386,6 +389,44 @@ pub fn name_of(m: AnyMethod) -> &'static str {
     // `auto` without blockers runs as the unobstructed kernel choice
     let m = if m == AnyMethod::Exact(Method::Auto) { AnyMethod::Visible(VisMethod::Auto) } else { m };
     WIRING.iter().find(|w| w.1 == m).map_or("unknown", |w| w.0)
+}
+
+/// The spec of option `option` of method `method` (both listed in [`METHODS`]: a caller bug
+/// otherwise, hence the panic).
+fn spec_of(method: &str, option: &str) -> &'static OptionSpec {
+    find(method).ok().and_then(|m| m.option(option)).unwrap_or_else(|| panic!("{method:?} has no option {option}"))
+}
+
+/// Defaults of the option structs, read from [`METHODS`] so that they are written once: the
+/// `Default` of [`crate::hemisphere::HemicubeOptions`] and the others call these.
+pub(crate) fn default_f64(method: &str, option: &str) -> f64 {
+    match spec_of(method, option).default {
+        Default::Float(x) => x,
+        d => panic!("{method:?} option {option}: {d:?} is not a float"),
+    }
+}
+pub(crate) fn default_u64(method: &str, option: &str) -> u64 {
+    match spec_of(method, option).default {
+        Default::Int(x) => x,
+        d => panic!("{method:?} option {option}: {d:?} is not an integer"),
+    }
+}
+pub(crate) fn default_bool(method: &str, option: &str) -> bool {
+    match spec_of(method, option).default {
+        Default::Bool(x) => x,
+        d => panic!("{method:?} option {option}: {d:?} is not a flag"),
+    }
+}
+
+/// The default `source` of `method`, as a row method's and as an area pair method's field.
+pub(crate) fn default_source(method: &str) -> (SourcePoints, Option<usize>) {
+    source_of(&spec_of(method, "source").default.value())
+}
+
+/// Checks one field of an option struct against the range of option `option` of `method` in
+/// [`METHODS`] (the `check` of the option structs, so that ranges are written once).
+pub(crate) fn check_field(method: &str, option: &str, v: Value) -> Result<()> {
+    check(method, spec_of(method, option), &v)
 }
 
 /// Checks `v` against `spec`; the message names the method and the option.
@@ -498,13 +539,7 @@ fn apply(name: &str, key: &str, v: &Value, o: &mut AllOptions) -> Result<()> {
         ("adaptive" | "clipping", "tol") => o.vis.tol = as_f64(v),
         ("adaptive" | "clipping", "max_depth") => o.vis.max_depth = as_u64(v) as usize,
         ("clipping", "source") => o.vis.clip_source = source_of(v).1,
-        ("hemicube", "resolution") => {
-            let r = as_u64(v) as u32;
-            if !r.is_multiple_of(2) {
-                return Err(Error::InvalidArgument(format!("method \"hemicube\": option resolution={r} must be even")));
-            }
-            o.hemicube.resolution = r;
-        }
+        ("hemicube", "resolution") => o.hemicube.resolution = as_u64(v) as u32,
         ("hemicube", "source") => o.hemicube.source = source_of(v).0,
         ("hemicube", "random_rotation") => o.hemicube.random_rotation = as_bool(v),
         ("hemicube", "seed") => o.hemicube.seed = as_u64(v),
@@ -574,6 +609,36 @@ mod tests {
             assert_eq!(name_of(method), m.name);
         }
         assert_eq!(name_of(AnyMethod::Exact(Method::Auto)), "auto");
+    }
+
+    #[test]
+    fn option_structs_default_to_the_table_and_check_its_ranges() {
+        use crate::hemisphere::{HemicubeOptions, NusseltOptions, RaytraceOptions, SinglePlaneOptions};
+        // what a user gets at the defaults is what a Rust caller gets from Default
+        let at = |m: &str| configure(m, &[]).unwrap().1;
+        assert_eq!(at("hemicube").hemicube, HemicubeOptions::default());
+        assert_eq!(at("single-plane").single_plane, SinglePlaneOptions::default());
+        assert_eq!(at("raytrace").raytrace, RaytraceOptions::default());
+        assert_eq!(at("nusselt").nusselt, NusseltOptions::default());
+        assert_eq!(at("contour").exact, crate::unobstructed::method::Options::default());
+        assert_eq!(at("clipping").vis, crate::obstructed::VisOptions::default());
+        assert_eq!(at("montecarlo").vis.samples, crate::obstructed::VisOptions::default().samples);
+        // a struct filled by hand is held to the table's range, and the message says which
+        let e =
+            SinglePlaneOptions { min_cell: 1e-5, ..std::default::Default::default() }.check().unwrap_err().to_string();
+        assert!(e.contains("single-plane") && e.contains("min_cell") && e.contains("outside"), "{e}");
+        let hi = spec_of("raytrace", "rays").hi as u32;
+        assert!(RaytraceOptions { rays: hi, ..std::default::Default::default() }.check().is_ok());
+        assert!(RaytraceOptions { rays: hi + 1, ..std::default::Default::default() }.check().is_err());
+        let e = HemicubeOptions { resolution: 130 + 1, ..std::default::Default::default() }
+            .check()
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("even"), "{e}");
+        let e = configure("hemicube", &[("resolution".into(), Value::Int(131))]).unwrap_err().to_string();
+        assert!(e.contains("hemicube") && e.contains("even"), "{e}");
+        let vis = crate::obstructed::VisOptions { order: 33, ..std::default::Default::default() };
+        assert!(vis.check().unwrap_err().to_string().contains("order"));
     }
 
     #[test]

@@ -12,7 +12,6 @@
 //! the functions can run on any number of threads.
 
 use crate::geometry::{Polygon, Vec3};
-use crate::quadrature::{AreaRule, MAX_ORDER};
 use std::f64::consts::FRAC_PI_4;
 
 /// Largest index `sobol_burley` accepts in one scrambled sequence.
@@ -143,15 +142,6 @@ impl PolygonSampler {
     }
 }
 
-/// The Gauss area rule of [`AreaRule`] of order k (clamped to 1..=64) on `poly` with weights
-/// summing to 1: source points for the row methods.
-pub fn polygon_gauss_points(poly: &Polygon, k: usize, out: &mut Vec<(Vec3, f64)>) {
-    out.clear();
-    let rule = AreaRule::new(poly, k.clamp(1, MAX_ORDER));
-    let total = poly.area();
-    out.extend(rule.points.iter().zip(&rule.weights).map(|(&x, &w)| (x, w / total)));
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -245,56 +235,10 @@ mod tests {
     }
 
     #[test]
-    fn gauss_points_have_unit_weight_and_polygon_moments() {
-        // skewed convex quad and concave L: weights sum to 1, first moments give the centroid,
-        // and the L's mean of x^2 is that of its three unit squares
-        let quad = Polygon::new(vec![
-            Vec3::new(0., 0., 0.),
-            Vec3::new(2., 0.2, 0.),
-            Vec3::new(1.7, 1.5, 0.),
-            Vec3::new(0.1, 1., 0.),
-        ])
-        .unwrap();
-        let l = Polygon::new(vec![
-            Vec3::new(0., 0., 0.),
-            Vec3::new(2., 0., 0.),
-            Vec3::new(2., 1., 0.),
-            Vec3::new(1., 1., 0.),
-            Vec3::new(1., 2., 0.),
-            Vec3::new(0., 2., 0.),
-        ])
-        .unwrap();
-        let mut pts = Vec::new();
-        for p in [&quad, &l] {
-            for k in 1..=5 {
-                polygon_gauss_points(p, k, &mut pts);
-                let ws: f64 = pts.iter().map(|x| x.1).sum();
-                assert!((ws - 1.0).abs() < 1e-14, "{ws}");
-                let c: Vec3 = pts.iter().map(|x| x.0 * x.1).sum();
-                if k >= 2 {
-                    assert!((c - p.centroid()).length() < 1e-13, "k {k}: {c} vs {}", p.centroid());
-                }
-            }
-        }
-        polygon_gauss_points(&l, 3, &mut pts);
-        let m2: f64 = pts.iter().map(|x| x.0.x * x.0.x * x.1).sum();
-        let exact = (1.0 / 3.0 + 7.0 / 3.0 + 1.0 / 3.0) / 3.0; // int x^2 over the 3 unit squares / 3
-        assert!((m2 - exact).abs() < 1e-14, "{m2} vs {exact}");
-    }
-
-    #[test]
     fn polygon_sampler_is_area_uniform_on_concave_outline() {
         // L-shape of area 3: mean of the points equals the area centroid, and each unit
         // square of the L gets one third of the points.
-        let v = vec![
-            Vec3::new(0., 0., 0.),
-            Vec3::new(2., 0., 0.),
-            Vec3::new(2., 1., 0.),
-            Vec3::new(1., 1., 0.),
-            Vec3::new(1., 2., 0.),
-            Vec3::new(0., 2., 0.),
-        ];
-        let p = Polygon::new(v).unwrap();
+        let p = Polygon::new(crate::geometry::tests::ell()).unwrap();
         let s = PolygonSampler::new(&p);
         let n = 1 << 14;
         let mut mean = Vec3::ZERO;

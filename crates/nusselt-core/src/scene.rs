@@ -79,7 +79,11 @@ impl Default for AllOptions {
 impl AllOptions {
     pub fn check(&self) -> Result<()> {
         self.exact.check()?;
-        self.vis.check()
+        self.vis.check()?;
+        self.hemicube.check()?;
+        self.single_plane.check()?;
+        self.raytrace.check()?;
+        self.nusselt.check()
     }
 }
 
@@ -421,6 +425,17 @@ fn pair_what(m: AnyMethod, i: usize, j: usize) -> String {
     format!("method {:?}: pair ({i}, {j})", crate::registry::name_of(m))
 }
 
+/// The unobstructed methods refuse obstacles rather than ignore them.
+fn no_obstacles(m: AnyMethod, n_obs: usize) -> Result<()> {
+    if n_obs > 0 {
+        return Err(Error::InvalidArgument(format!(
+            "method {:?} does not handle obstacles",
+            crate::registry::name_of(m)
+        )));
+    }
+    Ok(())
+}
+
 /// F_ab for a single pair with optional obstacles (opaque from both sides).
 pub fn pair_view_factor(
     a: Polygon,
@@ -434,12 +449,7 @@ pub fn pair_view_factor(
     let n_obs = obstacles.len();
     match m {
         AnyMethod::Exact(mm) => {
-            if n_obs > 0 {
-                return Err(Error::InvalidArgument(format!(
-                    "method {:?} does not handle obstacles",
-                    format!("{mm:?}").to_lowercase()
-                )));
-            }
+            no_obstacles(m, n_obs)?;
             let g = method::area_factor(&a, &b, mm, &o.exact, None)?;
             Ok(Estimate { value: clamp_g(g, area, b.area()) / area, std_err: 0.0 })
         }
@@ -497,12 +507,7 @@ fn point_estimate(
     let n_obs = obstacles.len();
     match m {
         AnyMethod::Exact(mm) => {
-            if n_obs > 0 {
-                return Err(Error::InvalidArgument(format!(
-                    "method {:?} does not handle obstacles",
-                    format!("{mm:?}").to_lowercase()
-                )));
-            }
+            no_obstacles(m, n_obs)?;
             Ok(Estimate { value: method::point_factor(p, n, &b, mm, &o.exact)?, std_err: 0.0 })
         }
         AnyMethod::Visible(vm) => {

@@ -4,11 +4,21 @@ use nusselt_core::Error;
 use pyo3::exceptions::{PyKeyboardInterrupt, PyMemoryError, PyRuntimeError, PyValueError};
 use pyo3::PyErr;
 
+pyo3::create_exception!(
+    _core,
+    GeometryError,
+    PyValueError,
+    "A polygon failed validation. args: (message, index, kind, reason, degenerate); index is the \
+     polygon's position in the list the core was given, and the Python package names the face from it."
+);
+
 pub fn to_py(err: Error) -> PyErr {
     match err {
-        Error::Geometry { .. } | Error::InvalidArgument(_) | Error::Budget { .. } => {
-            PyValueError::new_err(err.to_string())
+        Error::Geometry { index, ref source } => {
+            let args = (err.to_string(), index, source.kind(), source.to_string(), source.is_degenerate());
+            GeometryError::new_err(args)
         }
+        Error::InvalidArgument(_) | Error::Budget { .. } => PyValueError::new_err(err.to_string()),
         Error::OutOfMemory { .. } => PyMemoryError::new_err(err.to_string()),
         Error::Cancelled => PyKeyboardInterrupt::new_err("interrupted"),
     }

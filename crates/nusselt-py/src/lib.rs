@@ -15,6 +15,7 @@ mod threads;
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add_class::<scene::SceneCore>()?;
+    m.add("GeometryError", m.py().get_type::<errors::GeometryError>())?;
     m.add_function(wrap_pyfunction!(assemble::mirror_pairs, m)?)?;
     m.add_function(wrap_pyfunction!(assemble::pair_reciprocity, m)?)?;
     m.add_function(wrap_pyfunction!(options::methods, m)?)?;

@@ -3,7 +3,7 @@ use crate::convert::polygons_flat;
 use crate::options::options;
 use crate::threads::pool;
 use numpy::{IntoPyArray, PyArray1, PyArray2, PyReadonlyArray1, PyReadonlyArray2};
-use nusselt_core::geometry::{GeometryError, Polygon};
+use nusselt_core::geometry::Polygon;
 use nusselt_core::matrix::PairBlock;
 use nusselt_core::scene::{AnyMethod, Scene};
 use nusselt_core::work::CANCEL;
@@ -20,16 +20,17 @@ type Csr<'py> = (
 
 #[pyclass(frozen, module = "nusselt._core")]
 pub struct SceneCore {
-    errors: Vec<Option<String>>,
+    /// Per polygon: None, or its [`Error::Geometry`].
+    errors: Vec<Option<Error>>,
     scene: Scene,
 }
 
 impl SceneCore {
     fn valid(&self) -> Result<(), Error> {
-        if self.errors.iter().any(|e| e.is_some()) {
-            return Err(Error::InvalidArgument("the scene has invalid polygons".into()));
+        match self.errors.iter().flatten().next() {
+            Some(e) => Err(e.clone()),
+            None => Ok(()),
         }
-        Ok(())
     }
 
     /// A heavy call on the scene: off the GIL on the thread pool, interruptible by Ctrl-C.
@@ -56,18 +57,18 @@ impl SceneCore {
         receiver: PyReadonlyArray1<'_, bool>,
         planarity_tol: f64,
     ) -> PyResult<Self> {
-        let checked: Vec<Result<Polygon, GeometryError>> = polygons_flat(&coords, &offsets, planarity_tol)?;
+        let checked: Vec<Result<Polygon, Error>> = polygons_flat(&coords, &offsets, planarity_tol)?;
         let receiver = receiver.as_slice()?.to_vec();
-        let errors = checked.iter().map(|r| r.as_ref().err().map(|e| e.to_string())).collect();
+        let errors = checked.iter().map(|r| r.as_ref().err().cloned()).collect();
         let polygons: Vec<Polygon> = checked.into_iter().filter_map(|r| r.ok()).collect();
         let receiver = if polygons.len() == receiver.len() { receiver } else { vec![false; polygons.len()] };
         let scene = Scene::new(polygons, receiver).map_err(crate::errors::to_py)?;
         Ok(SceneCore { errors, scene })
     }
 
-    /// Per polygon: None, or the validation error message.
-    fn errors(&self) -> Vec<Option<String>> {
-        self.errors.clone()
+    /// Per polygon: None, or its validation error as a (not raised) GeometryError.
+    fn errors(&self, py: Python<'_>) -> Vec<Option<Py<pyo3::exceptions::PyBaseException>>> {
+        self.errors.iter().map(|e| e.clone().map(|e| crate::errors::to_py(e).into_value(py))).collect()
     }
 
     fn areas<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {

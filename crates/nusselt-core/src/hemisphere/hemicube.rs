@@ -1,15 +1,15 @@
 //! Hemicube (Cohen & Greenberg, SIGGRAPH '85), with exact cell integrals.
 //!
 //! Around each sample point p on the source, a cube of half side 1 is cut by the element
-//! plane: a top face z = 1 with R x R cells over [-1,1]^2 and four side faces with R x R/2
-//! cells over [-1,1] x [0,1]. Every other polygon is clipped to the element's front
+//! plane: a top face z = 1 with R x R cells over [-1, 1]^2 and four side faces with R x R/2
+//! cells over [-1, 1] x [0, 1]. Every other polygon is clipped to the element's front
 //! half-space and to each face's near plane, projected onto the face and scan-converted with
 //! cell-centre sampling into a z-buffer and an item buffer. A cell's delta form factor is the
 //! exact integral of the cosine kernel over the cell (docs/algorithms.md §2.2):
 //!
-//!   top,  [x0,x1]x[y0,y1]: dF = Phi(x1,y1) - Phi(x0,y1) - Phi(x1,y0) + Phi(x0,y0),
+//!   top,  [x0, x1]x[y0, y1]: dF = Phi(x1,y1) - Phi(x0,y1) - Phi(x1,y0) + Phi(x0,y0),
 //!     Phi(x,y) = (1/2pi)[x/sqrt(1+x^2) atan(y/sqrt(1+x^2)) + y/sqrt(1+y^2) atan(x/sqrt(1+y^2))],
-//!   side, [y0,y1]x[z0,z1]: dF = Psi(y1,z1) - Psi(y0,z1) - Psi(y1,z0) + Psi(y0,z0),
+//!   side, [y0, y1]x[z0, z1]: dF = Psi(y1,z1) - Psi(y0,z1) - Psi(y1,z0) + Psi(y0,z0),
 //!     Psi(y,z) = (1/2pi)[atan y - atan(y/sqrt(1+z^2)) / sqrt(1+z^2)],
 //!
 //! so the five faces sum to 1 up to rounding (no normalisation drift as with midpoint deltas).
@@ -27,6 +27,7 @@
 use super::{row_over_points, Accum, Points, RowResult, SourcePoints};
 use crate::error::{Error, Result};
 use crate::geometry::{Polygon, Vec3};
+use crate::registry::{check_field, Value};
 use std::cell::RefCell;
 use std::f64::consts::PI;
 
@@ -54,15 +55,23 @@ pub struct HemicubeOptions {
 
 impl Default for HemicubeOptions {
     fn default() -> Self {
-        HemicubeOptions { resolution: 128, source: SourcePoints::Auto, random_rotation: true, seed: 0, near: 1e-6 }
+        use crate::registry::{default_bool, default_source, default_u64};
+        HemicubeOptions {
+            resolution: default_u64("hemicube", "resolution") as u32,
+            source: default_source("hemicube").0,
+            random_rotation: default_bool("hemicube", "random_rotation"),
+            seed: default_u64("hemicube", "seed"),
+            near: 1e-6,
+        }
     }
 }
 
 impl HemicubeOptions {
     pub fn check(&self) -> Result<()> {
         let r = self.resolution;
-        if !(4..=4096).contains(&r) || !r.is_multiple_of(2) {
-            return Err(Error::InvalidArgument(format!("hemicube resolution must be even and in 4..=4096, got {r}")));
+        check_field("hemicube", "resolution", Value::Int(r.into()))?;
+        if !r.is_multiple_of(2) {
+            return Err(Error::InvalidArgument(format!("method \"hemicube\": option resolution={r} must be even")));
         }
         if !(self.near > 0.0 && self.near <= 0.1) {
             return Err(Error::InvalidArgument(format!("hemicube near must be in (0, 0.1], got {}", self.near)));
@@ -71,7 +80,7 @@ impl HemicubeOptions {
     }
 }
 
-/// Phi(x, y): form factor from a differential element to the rectangle [0,x]x[0,y] of the
+/// Phi(x, y): form factor from a differential element to the rectangle [0, x]x[0, y] of the
 /// plane at height 1 (Howell B-3, odd in x and in y). 4 Phi(1,1) = 0.5541264 (top face).
 pub fn phi(x: f64, y: f64) -> f64 {
     let sx = (1.0 + x * x).sqrt();
@@ -79,19 +88,19 @@ pub fn phi(x: f64, y: f64) -> f64 {
     (x / sx * (y / sx).atan() + y / sy * (x / sy).atan()) / (2.0 * PI)
 }
 
-/// Psi(y, z): form factor from a differential element (normal z) to [0,y]x[0,z] of the side
+/// Psi(y, z): form factor from a differential element (normal z) to [0, y]x[0, z] of the side
 /// plane x = 1. 2 Psi(1,1) = 0.1114684 (one side face).
 pub fn psi(y: f64, z: f64) -> f64 {
     let s = (1.0 + z * z).sqrt();
     (y.atan() - (y / s).atan() / s) / (2.0 * PI)
 }
 
-/// Exact delta form factor of the top-face cell [x0,x1]x[y0,y1] (plane z = 1).
+/// Exact delta form factor of the top-face cell [x0, x1]x[y0, y1] (plane z = 1).
 pub fn top_cell(x0: f64, x1: f64, y0: f64, y1: f64) -> f64 {
     phi(x1, y1) - phi(x0, y1) - phi(x1, y0) + phi(x0, y0)
 }
 
-/// Exact delta form factor of the side-face cell [y0,y1]x[z0,z1] (plane x = 1, z >= 0).
+/// Exact delta form factor of the side-face cell [y0, y1]x[z0, z1] (plane x = 1, z >= 0).
 pub fn side_cell(y0: f64, y1: f64, z0: f64, z1: f64) -> f64 {
     psi(y1, z1) - psi(y0, z1) - psi(y1, z0) + psi(y0, z0)
 }
@@ -302,14 +311,7 @@ fn project_polygon(
     near: f64,
     res: usize,
 ) {
-    s.local.clear();
-    let mut zmax = f64::NEG_INFINITY;
-    for x in poly.vertices() {
-        let d = *x - eye;
-        let q = Vec3::new(d.dot(u), d.dot(v), d.dot(n));
-        zmax = zmax.max(q.z);
-        s.local.push(q);
-    }
+    let zmax = super::to_local(poly, eye, [u, v, n], &mut s.local);
     if zmax <= near {
         return; // behind the element (or in its plane)
     }
@@ -481,15 +483,7 @@ mod tests {
     fn occluded_half() {
         // Source at origin facing +z; receiver [-.5,.5]^2 at z = 2; blocker [-.5,0]x[-.5,.5]
         // at z = 1 shadows exactly the receiver's x < 0 half.
-        let recv = quad(
-            Vec3::new(-0.5, -0.5, 2.),
-            Vec3::new(-0.5, 0.5, 2.),
-            Vec3::new(0.5, 0.5, 2.),
-            Vec3::new(0.5, -0.5, 2.),
-        );
-        let block =
-            quad(Vec3::new(-0.5, -0.5, 1.), Vec3::new(-0.5, 0.5, 1.), Vec3::new(0., 0.5, 1.), Vec3::new(0., -0.5, 1.));
-        let scene = tiny_source_facing(vec![recv, block], Vec3::ZERO, Vec3::Z);
+        let scene = tiny_source_facing(half_blocked().to_vec(), Vec3::ZERO, Vec3::Z);
         let rec = vec![true; 3];
         let o = HemicubeOptions { resolution: 512, source: SourcePoints::Centre, ..Default::default() };
         let r = hemicube_row(&scene, &rec, 0, &o).unwrap();

@@ -15,7 +15,7 @@
 //! horizon band the plane misses. `RowResult::lost` reports that fraction. Hits on
 //! polygons that are not receivers are blocked and simply not reported (they are not lost).
 //!
-//! One loop serves all four ([`row_over_points`]): it checks the arguments, places the source
+//! One loop serves all four (`row_over_points`): it checks the arguments, places the source
 //! points with their (randomly rotated) tangent frames, keeps the per-thread accumulator over
 //! patch ids and reads the row out; a method supplies only what one eye sees.
 //!
@@ -75,7 +75,7 @@ pub enum SourcePoints {
     /// onto the patch (stratified: use a power of two), equal weights 1/n. 1 <= n <= 4096.
     Points(u32),
     /// A k x k Gauss-Legendre product rule on the patch (bilinear map for a convex quad,
-    /// collapsed map per triangle otherwise, see [`crate::sampling::polygon_gauss_points`]):
+    /// collapsed map per triangle otherwise, see [`crate::quadrature::polygon_gauss_points`]):
     /// converges much faster than random points where F_{dA -> A_j} varies smoothly over the
     /// patch. 1 <= k <= 16.
     Gauss(u32),
@@ -120,7 +120,7 @@ impl SourcePoints {
     pub(crate) fn generate(&self, poly: &Polygon, scene_size: f64, seed: u64, i: usize, out: &mut Vec<(Vec3, f64)>) {
         out.clear();
         if let SourcePoints::Gauss(k) = *self {
-            crate::sampling::polygon_gauss_points(poly, k as usize, out);
+            crate::quadrature::polygon_gauss_points(poly, k as usize, out);
             return;
         }
         let n = match *self {
@@ -129,7 +129,7 @@ impl SourcePoints {
             SourcePoints::Auto => {
                 let rho = poly.radius() / (AUTO_REL_SIZE * scene_size.max(f64::MIN_POSITIVE));
                 if rho > 1.0 {
-                    crate::sampling::polygon_gauss_points(poly, rho.ceil().min(AUTO_MAX_ORDER as f64) as usize, out);
+                    crate::quadrature::polygon_gauss_points(poly, rho.ceil().min(AUTO_MAX_ORDER as f64) as usize, out);
                     return;
                 }
                 0
@@ -404,6 +404,21 @@ pub(crate) mod brute {
     }
 }
 
+/// `poly`'s vertices in the frame (u, v, n) at `eye`, written to `out`; returns the largest
+/// height along n (the hemicube and the single plane clip at a near height).
+#[inline]
+fn to_local(poly: &Polygon, eye: Vec3, [u, v, n]: [Vec3; 3], out: &mut Vec<Vec3>) -> f64 {
+    out.clear();
+    let mut zmax = f64::NEG_INFINITY;
+    for x in poly.vertices() {
+        let d = *x - eye;
+        let q = Vec3::new(d.dot(u), d.dot(v), d.dot(n));
+        zmax = zmax.max(q.z);
+        out.push(q);
+    }
+    zmax
+}
+
 /// Scenes and exact references shared by the method tests.
 #[cfg(test)]
 pub(crate) mod testkit {
@@ -412,6 +427,30 @@ pub(crate) mod testkit {
 
     pub fn quad(a: Vec3, b: Vec3, c: Vec3, d: Vec3) -> Polygon {
         Polygon::new(vec![a, b, c, d]).unwrap()
+    }
+
+    /// A square of half-width e about `centre` in its z plane, facing +z (a near-point source).
+    pub fn small_square(centre: Vec3, e: f64) -> Polygon {
+        quad(
+            centre + Vec3::new(-e, -e, 0.),
+            centre + Vec3::new(e, -e, 0.),
+            centre + Vec3::new(e, e, 0.),
+            centre + Vec3::new(-e, e, 0.),
+        )
+    }
+
+    /// The receiver [-1/2, 1/2]^2 at z = 2 and a blocker [-1/2, 0] x [-1/2, 1/2] at z = 1, both
+    /// facing -z: seen from the origin the blocker hides exactly the receiver's x < 0 half.
+    pub fn half_blocked() -> [Polygon; 2] {
+        let recv = quad(
+            Vec3::new(-0.5, -0.5, 2.),
+            Vec3::new(-0.5, 0.5, 2.),
+            Vec3::new(0.5, 0.5, 2.),
+            Vec3::new(0.5, -0.5, 2.),
+        );
+        let block =
+            quad(Vec3::new(-0.5, -0.5, 1.), Vec3::new(-0.5, 0.5, 1.), Vec3::new(0., 0.5, 1.), Vec3::new(0., -0.5, 1.));
+        [recv, block]
     }
 
     /// Unit square in z = 0 facing +z and unit square in z = h facing -z (Howell C-11 pair).

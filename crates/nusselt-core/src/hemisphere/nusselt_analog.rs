@@ -14,8 +14,9 @@
 //! The partition is rotated about the normal by a random angle per source point.
 
 use super::{row_over_points, Points, RowResult, SourcePoints};
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::geometry::Polygon;
+use crate::registry::{check_field, Value};
 use crate::sampling::{concentric_disk, hash_unit, lift_to_hemisphere};
 use crate::visibility::Visibility;
 
@@ -40,18 +41,20 @@ pub struct NusseltOptions {
 
 impl Default for NusseltOptions {
     fn default() -> Self {
-        NusseltOptions { cells: 4096, source: SourcePoints::Auto, jitter: true, random_rotation: true, seed: 0 }
+        use crate::registry::{default_bool, default_source, default_u64};
+        NusseltOptions {
+            cells: default_u64("nusselt", "cells") as u32,
+            source: default_source("nusselt").0,
+            jitter: default_bool("nusselt", "jitter"),
+            random_rotation: default_bool("nusselt", "random_rotation"),
+            seed: default_u64("nusselt", "seed"),
+        }
     }
 }
 
 impl NusseltOptions {
     pub fn check(&self) -> Result<()> {
-        if self.cells == 0 || self.cells > MAX_CELLS {
-            return Err(Error::InvalidArgument(format!(
-                "nusselt cells must be in 1..={MAX_CELLS}, got {}",
-                self.cells
-            )));
-        }
+        check_field("nusselt", "cells", Value::Int(self.cells.into()))?;
         self.source.check()
     }
     /// Cells per side of the square grid: s = round(sqrt(cells)), at least 1.
@@ -106,6 +109,7 @@ mod tests {
     use super::super::brute::BruteForce;
     use super::super::testkit::*;
     use super::*;
+    use crate::error::Error;
     use crate::geometry::Vec3;
 
     fn row(scene: &[Polygon], i: usize, o: &NusseltOptions) -> RowResult {
@@ -171,17 +175,8 @@ mod tests {
 
     #[test]
     fn occluded_half() {
-        let e = 1e-4;
-        let scene = vec![
-            quad(Vec3::new(-e, -e, 0.), Vec3::new(e, -e, 0.), Vec3::new(e, e, 0.), Vec3::new(-e, e, 0.)),
-            quad(
-                Vec3::new(-0.5, -0.5, 2.),
-                Vec3::new(-0.5, 0.5, 2.),
-                Vec3::new(0.5, 0.5, 2.),
-                Vec3::new(0.5, -0.5, 2.),
-            ),
-            quad(Vec3::new(-0.5, -0.5, 1.), Vec3::new(-0.5, 0.5, 1.), Vec3::new(0., 0.5, 1.), Vec3::new(0., -0.5, 1.)),
-        ];
+        let [recv, block] = half_blocked();
+        let scene = vec![small_square(Vec3::ZERO, 1e-4), recv, block];
         let r = row(&scene, 0, &NusseltOptions { cells: 1 << 16, source: SourcePoints::Centre, ..Default::default() });
         assert!((r.get(1) - 2.0 * corner_rect(0.25, 0.25)).abs() < 1e-3, "{r:?}");
         assert!((r.get(2) - 2.0 * corner_rect(0.5, 0.5)).abs() < 1e-3, "{r:?}");

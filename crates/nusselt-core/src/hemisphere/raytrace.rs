@@ -14,8 +14,9 @@
 //! estimate of the actual QMC error.
 
 use super::{row_over_points, Points, RowResult};
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::geometry::Polygon;
+use crate::registry::{check_field, Value};
 use crate::sampling::{cosine_hemisphere, hash_seed, sobol4, PolygonSampler};
 use crate::visibility::Visibility;
 
@@ -44,19 +45,19 @@ pub struct RaytraceOptions {
 
 impl Default for RaytraceOptions {
     fn default() -> Self {
-        RaytraceOptions { rays: 4096, seed: 0, row_tol: 0.0 }
+        use crate::registry::{default_f64, default_u64};
+        RaytraceOptions {
+            rays: default_u64("raytrace", "rays") as u32,
+            seed: default_u64("raytrace", "seed"),
+            row_tol: default_f64("raytrace", "row_tol"),
+        }
     }
 }
 
 impl RaytraceOptions {
     pub fn check(&self) -> Result<()> {
-        if self.rays == 0 || self.rays > MAX_RAYS {
-            return Err(Error::InvalidArgument(format!("raytrace rays must be in 1..={MAX_RAYS}, got {}", self.rays)));
-        }
-        if !(self.row_tol >= 0.0 && self.row_tol <= 0.5) {
-            return Err(Error::InvalidArgument(format!("raytrace row_tol must be in [0, 0.5], got {}", self.row_tol)));
-        }
-        Ok(())
+        check_field("raytrace", "rays", Value::Int(self.rays.into()))?;
+        check_field("raytrace", "row_tol", Value::Float(self.row_tol))
     }
 }
 
@@ -125,6 +126,7 @@ mod tests {
     use super::super::brute::BruteForce;
     use super::super::testkit::*;
     use super::*;
+    use crate::error::Error;
     use crate::geometry::Vec3;
 
     fn row(scene: &[Polygon], i: usize, o: &RaytraceOptions) -> RowResult {
@@ -170,17 +172,8 @@ mod tests {
             assert!((r.sum() - 1.0).abs() < 1e-12);
         }
         // blocker halves the receiver (see hemicube::occluded_half); source is a small patch
-        let e = 1e-3;
-        let scene = vec![
-            quad(Vec3::new(-e, -e, 0.), Vec3::new(e, -e, 0.), Vec3::new(e, e, 0.), Vec3::new(-e, e, 0.)),
-            quad(
-                Vec3::new(-0.5, -0.5, 2.),
-                Vec3::new(-0.5, 0.5, 2.),
-                Vec3::new(0.5, 0.5, 2.),
-                Vec3::new(0.5, -0.5, 2.),
-            ),
-            quad(Vec3::new(-0.5, -0.5, 1.), Vec3::new(-0.5, 0.5, 1.), Vec3::new(0., 0.5, 1.), Vec3::new(0., -0.5, 1.)),
-        ];
+        let [recv, block] = half_blocked();
+        let scene = vec![small_square(Vec3::ZERO, 1e-3), recv, block];
         let r = row(&scene, 0, &RaytraceOptions { rays: 1 << 16, seed: 1, ..Default::default() });
         assert!(within(&r, 1, 2.0 * corner_rect(0.25, 0.25)), "{r:?}");
         assert!(within(&r, 2, 2.0 * corner_rect(0.5, 0.5)), "{r:?}");

@@ -33,6 +33,7 @@ use super::hemicube::{phi, top_cell};
 use super::{row_over_points, Accum, Points, RowResult, SourcePoints};
 use crate::error::{Error, Result};
 use crate::geometry::{Polygon, Vec3};
+use crate::registry::{check_field, Value};
 use std::cell::RefCell;
 use std::f64::consts::PI;
 
@@ -59,12 +60,13 @@ pub struct SinglePlaneOptions {
 
 impl Default for SinglePlaneOptions {
     fn default() -> Self {
+        use crate::registry::{default_bool, default_f64, default_source, default_u64};
         SinglePlaneOptions {
-            half_width: 14.0,
-            min_cell: 1.0 / 128.0,
-            source: SourcePoints::Auto,
-            random_rotation: true,
-            seed: 0,
+            half_width: default_f64("single-plane", "half_width"),
+            min_cell: default_f64("single-plane", "min_cell"),
+            source: default_source("single-plane").0,
+            random_rotation: default_bool("single-plane", "random_rotation"),
+            seed: default_u64("single-plane", "seed"),
             near: 1e-6,
         }
     }
@@ -72,18 +74,8 @@ impl Default for SinglePlaneOptions {
 
 impl SinglePlaneOptions {
     pub fn check(&self) -> Result<()> {
-        if !(self.half_width >= 0.5 && self.half_width <= 1e4) {
-            return Err(Error::InvalidArgument(format!(
-                "single-plane half_width must be in [0.5, 1e4], got {}",
-                self.half_width
-            )));
-        }
-        if !(self.min_cell >= 1e-4 && self.min_cell <= 1.0) {
-            return Err(Error::InvalidArgument(format!(
-                "single-plane min_cell must be in [1e-4, 1], got {}",
-                self.min_cell
-            )));
-        }
+        check_field("single-plane", "half_width", Value::Float(self.half_width))?;
+        check_field("single-plane", "min_cell", Value::Float(self.min_cell))?;
         if !(self.near > 0.0 && self.near <= 0.1) {
             return Err(Error::InvalidArgument(format!("single-plane near must be in (0, 0.1], got {}", self.near)));
         }
@@ -381,14 +373,7 @@ pub fn single_plane_row(
 /// plane window; stores it with its inverse-depth plane.
 #[allow(clippy::too_many_arguments)]
 fn project(s: &mut Scratch, poly: &Polygon, id: u32, eye: Vec3, u: Vec3, v: Vec3, n: Vec3, near: f64, root: [f64; 4]) {
-    s.local.clear();
-    let mut zmax = f64::NEG_INFINITY;
-    for x in poly.vertices() {
-        let d = *x - eye;
-        let q = Vec3::new(d.dot(u), d.dot(v), d.dot(n));
-        zmax = zmax.max(q.z);
-        s.local.push(q);
-    }
+    let zmax = super::to_local(poly, eye, [u, v, n], &mut s.local);
     if zmax <= near {
         return;
     }
@@ -461,16 +446,6 @@ mod tests {
         }
     }
 
-    fn tiny(centre: Vec3) -> Polygon {
-        let e = 1e-4;
-        quad(
-            centre + Vec3::new(-e, -e, 0.),
-            centre + Vec3::new(e, -e, 0.),
-            centre + Vec3::new(e, e, 0.),
-            centre + Vec3::new(-e, e, 0.),
-        )
-    }
-
     #[test]
     fn point_cases_exact_without_overlap() {
         // One receiver only: rule 1 everywhere, so the value is exact (Lambert).
@@ -480,7 +455,7 @@ mod tests {
             Vec3::new(0.5, 0.5, 1.),
             Vec3::new(0.5, -0.5, 1.),
         );
-        let scene = vec![tiny(Vec3::ZERO), recv];
+        let scene = vec![small_square(Vec3::ZERO, 1e-4), recv];
         let o = SinglePlaneOptions { source: SourcePoints::Centre, ..Default::default() };
         let r = single_plane_row(&scene, &[true, true], 0, &o).unwrap();
         let exact = 4.0 * corner_rect(0.5, 0.5);
@@ -491,15 +466,8 @@ mod tests {
 
     #[test]
     fn occluded_half() {
-        let recv = quad(
-            Vec3::new(-0.5, -0.5, 2.),
-            Vec3::new(-0.5, 0.5, 2.),
-            Vec3::new(0.5, 0.5, 2.),
-            Vec3::new(0.5, -0.5, 2.),
-        );
-        let block =
-            quad(Vec3::new(-0.5, -0.5, 1.), Vec3::new(-0.5, 0.5, 1.), Vec3::new(0., 0.5, 1.), Vec3::new(0., -0.5, 1.));
-        let scene = vec![tiny(Vec3::ZERO), recv, block];
+        let [recv, block] = half_blocked();
+        let scene = vec![small_square(Vec3::ZERO, 1e-4), recv, block];
         let o = SinglePlaneOptions { source: SourcePoints::Centre, ..Default::default() };
         let r = single_plane_row(&scene, &[true; 3], 0, &o).unwrap();
         let (fr, fb) = (2.0 * corner_rect(0.25, 0.25), 2.0 * corner_rect(0.5, 0.5));

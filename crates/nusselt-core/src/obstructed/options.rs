@@ -2,6 +2,7 @@
 
 use super::MAX_SOURCE_EVALS;
 use crate::error::{Error, Result};
+use crate::registry::{check_field, Value};
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum VisMethod {
@@ -21,7 +22,7 @@ pub enum VisMethod {
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct VisOptions {
-    /// Unobstructed accuracy target of `auto` (relative), see [`method::Options::tol`].
+    /// Unobstructed accuracy target of `auto` (relative), see [`crate::unobstructed::method::Options::tol`].
     pub exact_tol: f64,
     /// `clipping` and obstructed pairs of `auto`: error target on F relative to the pair's
     /// unobstructed F (so also an absolute bound on F, and row sums in a scene are within
@@ -42,7 +43,7 @@ pub struct VisOptions {
     /// `subdivision`: each receiver triangle is split into divisions^2 pieces.
     pub divisions: usize,
     /// `subdivision` / `adaptive`: source points. None (default): the source is cut along
-    /// its kink lines (see [`split_at_kinks`]), each piece gets its centroid and the largest
+    /// its kink lines (see `kinks::split_at_kinks`), each piece gets its centroid and the largest
     /// Radon's 7-point rule, at most 64 points beyond one per piece (`rules::area_source_points`);
     /// Some(0) is the centroid alone, Some(k) a k x k Gauss rule per source triangle or quad
     /// (always a normalised weighted sum).
@@ -62,18 +63,21 @@ pub struct VisOptions {
 
 impl Default for VisOptions {
     fn default() -> Self {
+        // Fields shared by several methods take the default of the method named first in
+        // their doc (`configure` sets every field a method reads from its own row).
+        use crate::registry::{default_bool, default_f64, default_source, default_u64};
         VisOptions {
-            exact_tol: 1e-10,
-            tol: 1e-7,
-            order: 24,
-            panels: 4,
-            samples: 8192,
-            seed: 0,
-            divisions: 10,
-            source_points: None,
-            clip_source: None,
-            control_variate: true,
-            max_depth: 12,
+            exact_tol: default_f64("auto", "tol"),
+            tol: default_f64("clipping", "tol"),
+            order: default_u64("quadrature", "order") as usize,
+            panels: default_u64("quadrature", "panels") as usize,
+            samples: default_u64("montecarlo", "samples") as usize,
+            seed: default_u64("montecarlo", "seed"),
+            divisions: default_u64("subdivision", "divisions") as usize,
+            source_points: default_source("subdivision").1,
+            clip_source: default_source("clipping").1,
+            control_variate: default_bool("quadrature", "control_variate"),
+            max_depth: default_u64("clipping", "max_depth") as usize,
             max_evals: MAX_SOURCE_EVALS,
         }
     }
@@ -81,33 +85,23 @@ impl Default for VisOptions {
 
 impl VisOptions {
     pub fn check(&self) -> Result<()> {
-        let bad = |what: &str| Err(Error::InvalidArgument(what.to_string()));
-        if !(self.exact_tol >= 1e-15 && self.exact_tol <= 0.1) {
-            return bad("tol must be in [1e-15, 0.1]");
+        // the ranges of the registry rows these fields come from
+        let int = |x: usize| Value::Int(x as u64);
+        check_field("auto", "tol", Value::Float(self.exact_tol))?;
+        check_field("clipping", "tol", Value::Float(self.tol))?;
+        check_field("quadrature", "order", int(self.order))?;
+        check_field("quadrature", "panels", int(self.panels))?;
+        check_field("montecarlo", "samples", int(self.samples))?;
+        check_field("subdivision", "divisions", int(self.divisions))?;
+        if let Some(k) = self.source_points {
+            check_field("subdivision", "source", int(k))?;
         }
-        if !(self.tol >= 1e-14 && self.tol <= 0.1) {
-            return bad("tol must be in [1e-14, 0.1]");
+        if let Some(k) = self.clip_source {
+            check_field("clipping", "source", int(k))?;
         }
-        if !(1..=32).contains(&self.order) {
-            return bad("order must be in 1..=32");
-        }
-        if !(1..=64).contains(&self.panels) {
-            return bad("panels must be in 1..=64");
-        }
-        if !(8..=1 << 24).contains(&self.samples) {
-            return bad("samples must be in 8..=16777216");
-        }
-        if !(1..=256).contains(&self.divisions) {
-            return bad("divisions must be in 1..=256");
-        }
-        if self.source_points.is_some_and(|k| k > 16) || self.clip_source.is_some_and(|k| k > 16) {
-            return bad("source must be 'centre' or a Gauss order in 1..=16");
-        }
-        if !(1..=16).contains(&self.max_depth) {
-            return bad("max_depth must be in 1..=16");
-        }
+        check_field("clipping", "max_depth", int(self.max_depth))?;
         if self.max_evals < 1 {
-            return bad("max_evals must be at least 1");
+            return Err(Error::InvalidArgument("max_evals must be at least 1".into()));
         }
         Ok(())
     }

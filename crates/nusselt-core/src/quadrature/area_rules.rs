@@ -2,7 +2,7 @@
 
 use super::gauss::{check_order, gauss_jacobi10, gauss_legendre, MAX_ORDER};
 use crate::error::Result;
-use crate::geometry::{Polygon, Vec3};
+use crate::geometry::{turn_about, turns_left, Polygon, Vec3};
 
 /// Quadrature points and weights on a polygon: Σ w_k f(x_k) ≈ ∫_P f dA, Σ w_k = area.
 ///
@@ -28,7 +28,8 @@ impl AreaRule {
         let v = poly.vertices();
         let n = poly.normal();
         let mut rule = AreaRule { points: Vec::new(), weights: Vec::new() };
-        if v.len() == 4 && convex_quad(v, n) {
+        if v.len() == 4 && turns_left(v, turn_about(n), 1e-12) {
+            // strictly convex: the bilinear map is one-to-one
             rule.push_quad(v, n, order);
         } else if v.len() == 3 {
             rule.push_triangle(v[0], v[1], v[2], n, order);
@@ -108,11 +109,15 @@ pub(crate) fn triangle_rule(
     })
 }
 
-/// Convex (strictly, counter-clockwise about n) quadrilateral: every corner turns left.
-fn convex_quad(v: &[Vec3], n: Vec3) -> bool {
-    let scale = (v[2] - v[0]).length_squared().max((v[3] - v[1]).length_squared());
-    (0..4).all(|i| (v[(i + 1) % 4] - v[i]).cross(v[(i + 2) % 4] - v[(i + 1) % 4]).dot(n) > 1e-12 * scale)
+/// The Gauss area rule of [`AreaRule`] of order k (clamped to 1..=64) on `poly` with weights
+/// summing to 1: source points for the row methods.
+pub fn polygon_gauss_points(poly: &Polygon, k: usize, out: &mut Vec<(Vec3, f64)>) {
+    out.clear();
+    let rule = AreaRule::new(poly, k.clamp(1, MAX_ORDER));
+    let total = poly.area();
+    out.extend(rule.points.iter().zip(&rule.weights).map(|(&x, &w)| (x, w / total)));
 }
+
 #[cfg(test)]
 pub(crate) mod tests {
     use super::*;
@@ -221,5 +226,35 @@ pub(crate) mod tests {
                 }
             }
         }
+    }
+
+    #[test]
+    fn gauss_points_have_unit_weight_and_polygon_moments() {
+        // skewed convex quad and concave L: weights sum to 1, first moments give the centroid,
+        // and the L's mean of x^2 is that of its three unit squares
+        let quad = Polygon::new(vec![
+            Vec3::new(0., 0., 0.),
+            Vec3::new(2., 0.2, 0.),
+            Vec3::new(1.7, 1.5, 0.),
+            Vec3::new(0.1, 1., 0.),
+        ])
+        .unwrap();
+        let l = Polygon::new(crate::geometry::tests::ell()).unwrap();
+        let mut pts = Vec::new();
+        for p in [&quad, &l] {
+            for k in 1..=5 {
+                polygon_gauss_points(p, k, &mut pts);
+                let ws: f64 = pts.iter().map(|x| x.1).sum();
+                assert!((ws - 1.0).abs() < 1e-14, "{ws}");
+                let c: Vec3 = pts.iter().map(|x| x.0 * x.1).sum();
+                if k >= 2 {
+                    assert!((c - p.centroid()).length() < 1e-13, "k {k}: {c} vs {}", p.centroid());
+                }
+            }
+        }
+        polygon_gauss_points(&l, 3, &mut pts);
+        let m2: f64 = pts.iter().map(|x| x.0.x * x.0.x * x.1).sum();
+        let exact = (1.0 / 3.0 + 7.0 / 3.0 + 1.0 / 3.0) / 3.0; // int x^2 over the 3 unit squares / 3
+        assert!((m2 - exact).abs() < 1e-14, "{m2} vs {exact}");
     }
 }

@@ -1,4 +1,5 @@
-//! Quadrature rules: 1-D Gauss tables ([`gauss`]) and area rules on polygons ([`area_rules`]).
+//! Quadrature rules: 1-D Gauss tables ([`gauss`]) and area rules on polygons ([`area_rules`],
+//! also the normalised source points of the row methods).
 //! The kernels that use them live with their methods (`unobstructed::far_field`,
 //! `obstructed::rules`, `hemisphere`).
 
@@ -6,5 +7,5 @@ pub mod area_rules;
 pub mod gauss;
 
 pub(crate) use area_rules::triangle_rule;
-pub use area_rules::AreaRule;
+pub use area_rules::{polygon_gauss_points, AreaRule};
 pub use gauss::{gauss_legendre, try_gauss_legendre, MAX_ORDER};

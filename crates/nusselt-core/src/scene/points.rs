@@ -45,6 +45,18 @@ impl Scene {
         (c, 0.5 * (hi - lo).length())
     }
 
+    /// The scene's receivers as targets of points, in Morton order of their centroids.
+    fn targets(&self, ctx: Option<&Context>) -> Targets<'_> {
+        let ranks = self.ranks.get_or_init(|| morton_ranks(&self.polygons));
+        let mut order: Vec<u32> = (0..self.polygons.len() as u32).filter(|&j| self.receiver[j as usize]).collect();
+        order.sort_unstable_by_key(|&j| ranks[j as usize]);
+        let own = match ctx {
+            Some(c) => c.occluders.owner.clone(),
+            None => vec![u32::MAX; self.polygons.len()],
+        };
+        Targets { polygons: &self.polygons, own, order }
+    }
+
     /// F from each point (unit normal) to every receiver of the scene, as CSR parts (indptr,
     /// receiver polygon ids, F, standard error or None). `obstructed`: every polygon of the
     /// scene blocks (a receiver never blocks its own view); else Lambert's closed form alone.
@@ -77,14 +89,7 @@ impl Scene {
             AnyMethod::Visible(vm) => Some(vm),
         };
         let ctx = if obstructed && !self.polygons.is_empty() { Some(self.context()?) } else { None };
-        let ranks = self.ranks.get_or_init(|| morton_ranks(&self.polygons));
-        let mut order: Vec<u32> = (0..self.polygons.len() as u32).filter(|&j| self.receiver[j as usize]).collect();
-        order.sort_unstable_by_key(|&j| ranks[j as usize]);
-        let own: Vec<u32> = match &ctx {
-            Some(c) => c.occluders.owner.clone(),
-            None => vec![u32::MAX; self.polygons.len()],
-        };
-        let targets = Targets { polygons: &self.polygons, own, order };
+        let targets = self.targets(ctx.as_ref());
         let vo = {
             let mut vo = o.vis.clone();
             vo.exact_tol = o.exact.tol;
@@ -102,38 +107,24 @@ impl Scene {
         // Monte Carlo carries a standard error: such pairs go through the per-point estimator.
         if sampled {
             let c = ctx.as_ref().unwrap();
-            let rows: Vec<Result<Vec<(u32, f64, f64)>>> = points
-                .par_iter()
-                .zip(normals)
-                .map(|(&p, &n)| {
-                    if cancel.load(Ordering::Relaxed) {
-                        return Err(Error::Cancelled);
+            let rows: Vec<Result<Vec<(u32, f64, f64)>>> = per_point(points, normals, cancel, |p, n| {
+                let mut row = Vec::new();
+                for &j in &targets.order {
+                    let e = obstructed::point(c, p, n, j as usize, VisMethod::MonteCarlo, &vo)?;
+                    if e.value != 0.0 || e.std_err != 0.0 {
+                        row.push((j, e.value, e.std_err));
                     }
-                    let mut row = Vec::new();
-                    for &j in &targets.order {
-                        let e = obstructed::point(c, p, n, j as usize, VisMethod::MonteCarlo, &vo)?;
-                        if e.value != 0.0 || e.std_err != 0.0 {
-                            row.push((j, e.value, e.std_err));
-                        }
-                    }
-                    row.sort_unstable_by_key(|e| e.0);
-                    Ok(row)
-                })
-                .collect();
+                }
+                row.sort_unstable_by_key(|e| e.0);
+                Ok(row)
+            });
             return csr(rows, true);
         }
         let (centre, radius) = self.extent();
-        let rows: Vec<Result<Vec<(u32, f64, f64)>>> = points
-            .par_iter()
-            .zip(normals)
-            .map(|(&p, &n)| {
-                if cancel.load(Ordering::Relaxed) {
-                    return Err(Error::Cancelled);
-                }
-                let row = point_row(ctx.as_ref(), p, n, &targets, None, &hard, radius + p.distance(centre))?;
-                Ok(row.into_iter().map(|(j, f)| (j, f, 0.0)).collect())
-            })
-            .collect();
+        let rows: Vec<Result<Vec<(u32, f64, f64)>>> = per_point(points, normals, cancel, |p, n| {
+            let row = point_row(ctx.as_ref(), p, n, &targets, None, &hard, radius + p.distance(centre))?;
+            Ok(row.into_iter().map(|(j, f)| (j, f, 0.0)).collect())
+        });
         csr(rows, false)
     }
 
@@ -145,14 +136,7 @@ impl Scene {
         let up = vec![Vec3::new(0.0, 0.0, 1.0); points.len()];
         check_points(points, &up)?;
         let ctx = if obstructed && !self.polygons.is_empty() { Some(self.context()?) } else { None };
-        let ranks = self.ranks.get_or_init(|| morton_ranks(&self.polygons));
-        let mut order: Vec<u32> = (0..self.polygons.len() as u32).filter(|&j| self.receiver[j as usize]).collect();
-        order.sort_unstable_by_key(|&j| ranks[j as usize]);
-        let own = match &ctx {
-            Some(c) => c.occluders.owner.clone(),
-            None => vec![u32::MAX; self.polygons.len()],
-        };
-        let targets = Targets { polygons: &self.polygons, own, order };
+        let targets = self.targets(ctx.as_ref());
         let free = |p: Vec3, _n: Vec3, b: &Polygon| sphere_fraction(p, b, &[b.vertices().to_vec()]);
         let hard = |p: Vec3, _n: Vec3, j: usize, blockers: &[&Polygon]| {
             let b = &self.polygons[j];
@@ -160,18 +144,10 @@ impl Scene {
             Ok(sphere_fraction(p, b, &visible_part(p, -b.normal(), b, blockers)))
         };
         let (centre, radius) = self.extent();
-        let rows: Vec<Result<Vec<(u32, f64, f64)>>> = points
-            .par_iter()
-            .zip(&up)
-            .map(|(&p, &n)| {
-                if cancel.load(Ordering::Relaxed) {
-                    return Err(Error::Cancelled);
-                }
-                let row =
-                    point_row_with(ctx.as_ref(), p, n, &targets, None, &free, &hard, radius + p.distance(centre))?;
-                Ok(row.into_iter().map(|(j, f)| (j, f, 0.0)).collect())
-            })
-            .collect();
+        let rows: Vec<Result<Vec<(u32, f64, f64)>>> = per_point(points, &up, cancel, |p, n| {
+            let row = point_row_with(ctx.as_ref(), p, n, &targets, None, &free, &hard, radius + p.distance(centre))?;
+            Ok(row.into_iter().map(|(j, f)| (j, f, 0.0)).collect())
+        });
         csr(rows, false)
     }
 
@@ -191,17 +167,12 @@ impl Scene {
         let (centre, radius) = self.extent();
         let hard =
             |p: Vec3, n: Vec3, k: usize, blockers: &[&Polygon]| Ok(point_visible_view_factor(p, n, &both[k], blockers));
-        points
-            .par_iter()
-            .zip(normals)
-            .map(|(&p, &n)| {
-                if cancel.load(Ordering::Relaxed) {
-                    return Err(Error::Cancelled);
-                }
-                let row = point_row(Some(&ctx), p, n, &targets, None, &hard, radius + p.distance(centre))?;
-                Ok(sky_from(&row))
-            })
-            .collect()
+        per_point(points, normals, cancel, |p, n| {
+            let row = point_row(Some(&ctx), p, n, &targets, None, &hard, radius + p.distance(centre))?;
+            Ok(sky_from(&row))
+        })
+        .into_iter()
+        .collect()
     }
 
     /// The sky view factor of each receiver patch in `rows`: the point sky view factor
@@ -328,6 +299,25 @@ fn check_points(points: &[Vec3], normals: &[Vec3]) -> Result<()> {
         }
     }
     Ok(())
+}
+
+/// `f(point, normal)` for every point, in parallel; each point first checks for Ctrl-C.
+fn per_point<T: Send>(
+    points: &[Vec3],
+    normals: &[Vec3],
+    cancel: &AtomicBool,
+    f: impl Fn(Vec3, Vec3) -> Result<T> + Sync + Send,
+) -> Vec<Result<T>> {
+    points
+        .par_iter()
+        .zip(normals)
+        .map(|(&p, &n)| {
+            if cancel.load(Ordering::Relaxed) {
+                return Err(Error::Cancelled);
+            }
+            f(p, n)
+        })
+        .collect()
 }
 
 fn csr(rows: Vec<Result<Vec<(u32, f64, f64)>>>, with_std: bool) -> Result<PairBlock> {

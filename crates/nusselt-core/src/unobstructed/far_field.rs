@@ -80,7 +80,7 @@ pub fn area_area(a: &AreaRule, na: Vec3, b: &AreaRule, nb: Vec3) -> f64 {
 const LANES: usize = 4;
 
 /// An [`AreaRule`] packed for [`far_pair`]: structure of arrays, padded to a multiple of
-/// [`LANES`] with zero-weight copies of the first point, plus the plane offset n·c of the
+/// `LANES` with zero-weight copies of the first point, plus the plane offset n·c of the
 /// polygon (the rule's points lie on that plane).
 #[derive(Debug, Clone, PartialEq)]
 pub struct PackedRule {

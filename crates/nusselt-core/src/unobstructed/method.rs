@@ -10,6 +10,7 @@ use super::far_field::{self, FarPlan, FarRule, PackedRule};
 use crate::error::{Error, Result};
 use crate::geometry::{Polygon, Vec3};
 use crate::quadrature::AreaRule;
+use crate::registry::{check_field, Value};
 use crate::unobstructed::analytic;
 use crate::unobstructed::contour;
 use crate::unobstructed::moments::{moment4_pair, moment_pair, Moments};
@@ -33,19 +34,15 @@ pub struct Options {
 
 impl Default for Options {
     fn default() -> Self {
-        Options { tol: 1e-10, nodes: contour::DEFAULT_NODES }
+        use crate::registry::{default_f64, default_u64};
+        Options { tol: default_f64("auto", "tol"), nodes: default_u64("contour", "nodes") as usize }
     }
 }
 
 impl Options {
     pub fn check(&self) -> Result<()> {
-        if !(self.tol >= 1e-15 && self.tol <= 0.1) {
-            return Err(Error::InvalidArgument(format!("tol must be in [1e-15, 0.1], got {}", self.tol)));
-        }
-        if !(1..=64).contains(&self.nodes) {
-            return Err(Error::InvalidArgument(format!("nodes must be in 1..=64, got {}", self.nodes)));
-        }
-        Ok(())
+        check_field("auto", "tol", Value::Float(self.tol))?;
+        check_field("contour", "nodes", Value::Int(self.nodes as u64))
     }
 }
 

@@ -38,15 +38,15 @@
 //!
 //!   S₁ = -4tδ,  S₂ = -2tw + 12t²δ²,  S₃ = 12t²δw - 32t³δ³,  S₄ = 3t²w² - 48t³δ²w + 80t⁴δ⁴.
 //!
-//! Odd orders average to zero, E[α] = E[β] = E[αβ] = 0, and the fourth-order part of the
+//! Odd orders average to zero, E\[α\] = E\[β\] = E\[αβ\] = 0, and the fourth-order part of the
 //! bracket is
 //!
-//!   pq E[S₄] + p E[β S₃] + q E[α S₃] + E[αβ S₂].
+//!   pq E\[S₄\] + p E\[β S₃\] + q E\[α S₃\] + E\[αβ S₂\].
 //!
 //! The expectations over the two independent, centred points follow from the moments of each
 //! polygon: for a parallelogram with edge vectors E₁, E₂, x' = σ₁E₁ + σ₂E₂ with σ uniform on
-//! [-½, ½]², so E[σ²] = 1/12, E[σ⁴] = 1/80, and every moment is a polynomial in the edge
-//! projections v_k = v·E_k (see [`fourth_order_term`]). The second-order part is the rule
+//! [-½, ½]², so E\[σ²\] = 1/12, E\[σ⁴\] = 1/80, and every moment is a polynomial in the edge
+//! projections v_k = v·E_k (see `fourth_order_term`). The second-order part is the rule
 //! above (M = (E₁E₁ᵀ + E₂E₂ᵀ)/12 for a parallelogram). Cost: about four times the
 //! second-order rule, against 81 point pairs of the Gauss rule of order 3 that it replaces.
 
@@ -115,7 +115,7 @@ pub(crate) fn second_order_bracket(d: Vec3, na: Vec3, nb: Vec3, ma: &[f64; 6], m
     pq - t * (4.0 * (q * na.dot(mbd) - p * nb.dot(mad)) + 2.0 * pq * trace) + 12.0 * t * t * pq * dmd
 }
 
-/// E[σ²], E[σ⁴] and E[σ²]² for σ uniform on [-½, ½].
+/// E\[σ²\], E\[σ⁴\] and E\[σ²\]² for σ uniform on [-½, ½].
 const MU2: f64 = 1.0 / 12.0;
 const MU4: f64 = 1.0 / 80.0;
 const MU22: f64 = 1.0 / 144.0;
@@ -127,11 +127,11 @@ const MU22: f64 = 1.0 / 144.0;
 ///   M(v, w) = μ₂ (v₁w₁ + v₂w₂),   (M_a v)·(M_b w) = μ₂² Σ_kl v_k w_l (E_ak·E_bl),
 ///   Q(w, w, w, w) = μ₄ (w₁⁴ + w₂⁴) + 6 μ₂² w₁²w₂²,
 ///   Q(v, w, w, w) = μ₄ (v₁w₁³ + v₂w₂³) + 3 μ₂² (v₁w₁w₂² + v₂w₂w₁²),
-///   E[(v·x')(w·x')|x'|²] = v₁w₁ (μ₄L₁ + μ₂²L₂) + v₂w₂ (μ₂²L₁ + μ₄L₂) + 2μ₂² C (v₁w₂ + v₂w₁),
+///   E\[(v·x')(w·x')|x'|²\] = v₁w₁ (μ₄L₁ + μ₂²L₂) + v₂w₂ (μ₂²L₁ + μ₄L₂) + 2μ₂² C (v₁w₂ + v₂w₁),
 ///   E|x'|⁴ = μ₄ (L₁² + L₂²) + 2μ₂² L₁L₂ + 4μ₂² C²,
 ///
 /// and for u = y' - x' the fourth moments add the two polygons' own and the six products of
-/// second moments, e.g. E[δ⁴] = Q_a(d⁴) + Q_b(d⁴) + 6 M_a(d, d) M_b(d, d).
+/// second moments, e.g. E\[δ⁴\] = Q_a(d⁴) + Q_b(d⁴) + 6 M_a(d, d) M_b(d, d).
 #[inline(always)]
 pub(crate) fn fourth_order_term(d: Vec3, na: Vec3, nb: Vec3, ea: &[Vec3; 2], eb: &[Vec3; 2], t: f64) -> f64 {
     let (p, q) = (na.dot(d), -nb.dot(d));

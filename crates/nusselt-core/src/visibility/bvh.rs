@@ -569,7 +569,7 @@ impl Visibility for Bvh {
         self.collect(&Shaft::new(a, b, self.max_abs), ignore, out);
     }
 
-    /// The polygons meeting the hull of a and the box (the shaft of [`Shaft::toward_box`],
+    /// The polygons meeting the hull of a and the box (the shaft of `Shaft::toward_box`,
     /// tested like [`Visibility::candidates_between`]'s).
     fn candidates_toward_box(
         &self,
@@ -727,16 +727,21 @@ impl Shaft {
         Shaft { lo: lo_t, hi: hi_t, blocks, points, tol }
     }
 
-    /// False only if the box lies outside the hull's box or outside one supporting plane.
+    /// The box [lo, hi] and the hull's bounding box are disjoint.
     #[inline]
-    fn may_meet_box(&self, lo: Vec3, hi: Vec3) -> bool {
-        if lo.x > self.hi.x
+    fn box_apart(&self, lo: Vec3, hi: Vec3) -> bool {
+        lo.x > self.hi.x
             || lo.y > self.hi.y
             || lo.z > self.hi.z
             || hi.x < self.lo.x
             || hi.y < self.lo.y
             || hi.z < self.lo.z
-        {
+    }
+
+    /// False only if the box lies outside the hull's box or outside one supporting plane.
+    #[inline]
+    fn may_meet_box(&self, lo: Vec3, hi: Vec3) -> bool {
+        if self.box_apart(lo, hi) {
             return false;
         }
         let c = 0.5 * (lo + hi);
@@ -757,13 +762,7 @@ impl Shaft {
     pub(crate) fn may_meet_triangle(&self, v: &[Vec3; 3], normal: Vec3) -> bool {
         let lo = v[0].min(v[1]).min(v[2]);
         let hi = v[0].max(v[1]).max(v[2]);
-        if lo.x > self.hi.x
-            || lo.y > self.hi.y
-            || lo.z > self.hi.z
-            || hi.x < self.lo.x
-            || hi.y < self.lo.y
-            || hi.z < self.lo.z
-        {
+        if self.box_apart(lo, hi) {
             return false;
         }
         // four planes at a time, without branches inside a block (so the block vectorises)

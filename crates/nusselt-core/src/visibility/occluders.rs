@@ -32,7 +32,7 @@ pub struct Occluders {
 
 impl Occluders {
     /// Joins `polys` greedily where coplanar, same-facing neighbours have a convex union
-    /// ([`join_adjacent`]).
+    /// (`join_adjacent`).
     pub fn new(polys: &[Polygon]) -> Occluders {
         let n = polys.len();
         let mut outline: Vec<Vec<Vec3>> = polys.iter().map(|p| p.vertices().to_vec()).collect();

@@ -11,7 +11,8 @@
 //! Blockers are opaque from both sides, whichever way they face (View3D ignores blockers that
 //! face the wrong way; docs/algorithms.md §8). Every tolerance is relative to the geometry.
 
-use crate::geometry::{clip_to_halfspace, join_adjacent, newell_normal, tangent_frame, Polygon, Vec3};
+use crate::geometry::turn_2d as turn;
+use crate::geometry::{clip_to_halfspace, join_adjacent, newell_normal, tangent_frame, turns_left, Polygon, Vec3};
 use i_overlay::core::fill_rule::FillRule;
 use i_overlay::core::overlay_rule::OverlayRule;
 use i_overlay::float::single::SingleFloatOverlay;
@@ -590,21 +591,7 @@ fn orient(u: [f64; 2], w: [f64; 2], x: [f64; 2]) -> f64 {
 /// Counter-clockwise and convex: no right turn beyond rounding (a vertex on a straight edge,
 /// as clipping leaves, is fine: its half-plane is that of the edge).
 fn is_convex(v: &[[f64; 2]]) -> bool {
-    let m = v.len();
-    (0..m).all(|i| {
-        let (a, b, c) = (v[i], v[(i + 1) % m], v[(i + 2) % m]);
-        let (e, f) = ([b[0] - a[0], b[1] - a[1]], [c[0] - b[0], c[1] - b[1]]);
-        let cross = e[0] * f[1] - e[1] * f[0];
-        // cross >= -1e-12 |e| |f|, without a square root for the usual left turns
-        cross >= 0.0 || cross * cross <= 1e-24 * ((e[0] * e[0] + e[1] * e[1]) * (f[0] * f[0] + f[1] * f[1]))
-    })
-}
-
-/// The turn at b on the path a -> b -> c: the cross product of the two edges (positive to the
-/// left) and the product of their lengths, its scale.
-fn turn(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> (f64, f64) {
-    let (e, f) = ([b[0] - a[0], b[1] - a[1]], [c[0] - b[0], c[1] - b[1]]);
-    (e[0] * f[1] - e[1] * f[0], ((e[0] * e[0] + e[1] * e[1]) * (f[0] * f[0] + f[1] * f[1])).sqrt())
+    turns_left(v, turn, -1e-12)
 }
 
 /// Removes vertices at rounding distance from their predecessor, as clipping leaves when a
@@ -657,8 +644,8 @@ pub fn hides_whole(source: &[Vec3], target: &[Vec3], blocker: &Polygon) -> bool 
     let m = v.len();
     let margin = 1e-9 * blocker.radius();
     let edge = |k: usize| (v[k], v[(k + 1) % m] - v[k]);
-    // convex: every turn to the left about n (collinear vertices allowed)
-    if (0..m).any(|k| edge(k).1.cross(edge((k + 1) % m).1).dot(n) < -margin * margin) {
+    // convex: every turn to the left about n (collinear vertices allowed), an absolute margin
+    if !turns_left(v, |a, b, c| ((b - a).cross(c - b).dot(n), margin * margin), -1.0) {
         return false;
     }
     let height = |x: &Vec3| n.dot(*x - v[0]);

@@ -8,14 +8,14 @@
 //!   two orders agree to 5e-14 (the kernel is analytic and positive; every term is rounded
 //!   relative to itself, also for grazing pairs where Lambert's sum still cancels);
 //! * otherwise Lambert's exact point form integrated over the source by adaptive Gauss,
-//!   A_s F_st = int_s F(dA_x -> t) dA_x, F(dA_x -> t) >= 0 by [`point_contour`], rounded
+//!   A_s F_st = int_s F(dA_x -> t) dA_x, F(dA_x -> t) >= 0 by [`point_contour`](super::point_contour), rounded
 //!   relative to itself up to the cancellation inside Lambert's sum (about the ratio of t's
 //!   distance to its size). The integrand is analytic away from t, so Gauss converges
 //!   geometrically on a source that does not touch the target, and refinement resolves a
 //!   contact at a point;
 //! * touching along one line (a shared edge, the cut of a piercing pair): the same integral
 //!   in coordinates along and across the line, graded towards it and towards the contact's
-//!   ends ([`lambert_along_line`]).
+//!   ends (`lambert_along_line`).
 //!
 //! The routes work on the clipped outlines as given, not in the caller's shifted and scaled
 //! frame: a sliver's width is known to the rounding of its own coordinates, and a frame
@@ -37,10 +37,10 @@ pub const ILL_CONDITIONED: f64 = 2e3;
 /// counted is the larger of mag / |sum| (between terms) and (distance / size)^2 (inside each
 /// term for a pair far apart compared with its size, where the inner integrals cancel like
 /// that). None when the sum is well conditioned, the outlines touch along several lines or
-/// nearly along one ([`Contact::Other`]), or the area route does not converge: the caller
-/// keeps its sum. Pairs far apart go to [`area_area`], the rest (and far pairs it refuses)
+/// nearly along one (`Contact::Other`), or the area route does not converge: the caller
+/// keeps its sum. Pairs far apart go to `area_area`, the rest (and far pairs it refuses)
 /// to [`lambert_over_area`] or, touching along a line and cancelling by more than
-/// `line_threshold`, [`lambert_along_line`], over the smaller outline.
+/// `line_threshold`, `lambert_along_line`, over the smaller outline.
 pub fn if_cancelling(
     pa: &[Vec3],
     na: Vec3,
@@ -88,7 +88,7 @@ pub fn if_cancelling(
 /// worst measured against 40-digit references (tube panels, strips, slivers sharing an edge).
 const SUM_ERROR_PER_CANCELLATION: f64 = 1.4e-14;
 
-/// Cancellation above which a pair in contact along a line takes [`lambert_along_line`]
+/// Cancellation above which a pair in contact along a line takes `lambert_along_line`
 /// (milliseconds a pair) rather than keeping an analytic sum (a microsecond): up to
 /// SUM_ERROR_PER_CANCELLATION times this (4e-10) below it. Contour sums of nearly touching
 /// edges are not that good (1.5e-5 at a gap of 1e-12), so contour passes ILL_CONDITIONED.
@@ -106,7 +106,7 @@ fn edges(p: &[Vec3]) -> Vec<(Vec3, Vec3)> {
     (0..p.len()).map(|i| (p[i], p[(i + 1) % p.len()])).collect()
 }
 
-/// Gauss orders per direction compared by [`area_area`], and the relative agreement that
+/// Gauss orders per direction compared by `area_area`, and the relative agreement that
 /// accepts the higher one. From 45 sizes apart (where it is tried) order 5 is at the rounding
 /// floor of the far-field tables (quadrature.rs: 2e-14 for any polygons from 32 apart).
 const AREA_ORDERS: (usize, usize) = (5, 6);
@@ -151,7 +151,7 @@ fn area_area(pa: &[Vec3], na: Vec3, pb: &[Vec3], nb: Vec3) -> Option<f64> {
 #[derive(Debug, Clone, Copy, PartialEq)]
 enum Contact {
     /// Not along a line: apart, or at isolated points (a shared vertex, a vertex on the other's
-    /// edge, crossing edges), which [`adaptive_area`] resolves by refining towards the point.
+    /// edge, crossing edges), which `adaptive_area` resolves by refining towards the point.
     Points,
     /// Every such target edge lies over one line of the source's plane (on it or above it, to
     /// SNAP): a point of the line and its unit direction.
@@ -162,7 +162,7 @@ enum Contact {
 
 /// Distance within which a vertex counts as lying on a contact line, in units of the rounding
 /// of the coordinates (eps times the largest of them, or of the pair's size): a clipped
-/// vertex is rounded by about that. [`lambert_along_line`] moves such vertices onto the line;
+/// vertex is rounded by about that. `lambert_along_line` moves such vertices onto the line;
 /// for a sliver of width w that moves F by up to (distance / w) relative, so the bound stays
 /// near rounding (1e-13 of the size moved a sliver 2e-5 wide by 5e-9).
 const SNAP: f64 = 32.0 * f64::EPSILON;
@@ -221,7 +221,7 @@ fn contact(src: &[Vec3], n_src: Vec3, tgt: &[Vec3]) -> Contact {
     }
 }
 
-/// Gauss order per piece of [`lambert_along_line`]'s adaptive rules, and the most bisections
+/// Gauss order per piece of `lambert_along_line`'s adaptive rules, and the most bisections
 /// it spends (inner and outer together) before giving up.
 const LINE_ORDER: usize = 8;
 const LINE_BUDGET: usize = 40_000;
@@ -418,7 +418,7 @@ fn adaptive_gauss(
     Some((sum, mag))
 }
 
-/// Order per direction of the triangle rule in [`adaptive_area`].
+/// Order per direction of the triangle rule in `adaptive_area`.
 const ORDER: usize = 8;
 /// Rounding of an integrand (a Lambert sum: a few eps per term), in units of its magnitude.
 const NOISE_EPS: f64 = 64.0 * f64::EPSILON;
@@ -427,16 +427,16 @@ const MAX_TRIANGLES: usize = 400;
 
 /// int over the source polygon `src` (plane normal `n_src`, vertices in order about it) of
 /// Lambert's F to the contour `target`, which must lie in the front half-space of every point
-/// of `src` (a clipped pair), by [`adaptive_area`].
+/// of `src` (a clipped pair), by `adaptive_area`.
 pub fn lambert_over_area(src: &[Vec3], n_src: Vec3, target: &[Vec3], rel_tol: f64) -> Option<f64> {
     adaptive_area(src, n_src, |x| point_contour_terms(x, n_src, target), rel_tol)
 }
 
 /// F(dA at p, unit normal n -> polygon `poly`, plane normal `n_poly`) as the area integral
 ///   (h / pi) int n.(y - p) / |y - p|^4 dA_y,  h = n_poly.(p - y) (the same for every y),
-/// by [`adaptive_area`]: the route for points near the polygon's plane (beside the polygon)
+/// by `adaptive_area`: the route for points near the polygon's plane (beside the polygon)
 /// or far from it, where Lambert's contour sum cancels. `poly` must lie in p's front
-/// half-space (clipped); None as for [`adaptive_area`].
+/// half-space (clipped); None as for `adaptive_area`.
 pub fn point_over_area(p: Vec3, n: Vec3, poly: &[Vec3], n_poly: Vec3, rel_tol: f64) -> Option<f64> {
     let h = n_poly.dot(p - poly[0]);
     if !(h > 0.0) {

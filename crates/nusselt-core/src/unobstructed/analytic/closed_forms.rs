@@ -106,8 +106,8 @@ pub fn perpendicular_rectangles(l: f64, w: f64, h: f64) -> Result<f64> {
 }
 
 /// Parallel, aligned rectangles in arbitrary position (Howell section C; Gross, Spindler &
-/// Hahne 1981; 8.2 row 8). A1 = [x1,x2] x [y1,y2] in the plane z = 0 (facing +z), A2 =
-/// [xi1,xi2] x [eta1,eta2] in the plane at height `z` > 0 (facing -z). F12 =
+/// Hahne 1981; 8.2 row 8). A1 = [x1, x2] x [y1, y2] in the plane z = 0 (facing +z), A2 =
+/// [xi1, xi2] x [eta1, eta2] in the plane at height `z` > 0 (facing -z). F12 =
 /// 1/((x2-x1)(y2-y1)) sum_{i,j,k,l} (-1)^(i+j+k+l) G(x_i, y_j, eta_k, xi_l) with
 /// G = (1/2pi)[ (y-eta) sqrt((x-xi)^2+z^2) atan((y-eta)/sqrt((x-xi)^2+z^2))
 ///            + (x-xi) sqrt((y-eta)^2+z^2) atan((x-xi)/sqrt((y-eta)^2+z^2))
@@ -135,23 +135,29 @@ pub fn parallel_rectangles_general(
         let sv = (v * v + z * z).sqrt();
         (v * su * (v / su).atan() + u * sv * (u / sv).atan() - 0.5 * z * z * (u * u + v * v + z * z).ln()) / (2.0 * PI)
     };
+    Ok(corner_sum([x1, x2], [y1, y2], [eta1, eta2], [xi1, xi2], g) / ((x2 - x1) * (y2 - y1)))
+}
+
+/// Σ (-1)^(i+j+k+l) g(x_i, y_j, eta_k, xi_l) over the 16 corners of two aligned rectangles'
+/// coordinate intervals: the general rectangle formulas are this sum of a corner function.
+fn corner_sum(x: [f64; 2], y: [f64; 2], eta: [f64; 2], xi: [f64; 2], g: impl Fn(f64, f64, f64, f64) -> f64) -> f64 {
     let mut sum = 0.0;
-    for (i, x) in [x1, x2].into_iter().enumerate() {
-        for (j, y) in [y1, y2].into_iter().enumerate() {
-            for (k, eta) in [eta1, eta2].into_iter().enumerate() {
-                for (m, xi) in [xi1, xi2].into_iter().enumerate() {
+    for (i, x) in x.into_iter().enumerate() {
+        for (j, y) in y.into_iter().enumerate() {
+            for (k, eta) in eta.into_iter().enumerate() {
+                for (m, xi) in xi.into_iter().enumerate() {
                     let sign = if (i + j + k + m) % 2 == 0 { 1.0 } else { -1.0 };
                     sum += sign * g(x, y, eta, xi);
                 }
             }
         }
     }
-    Ok(sum / ((x2 - x1) * (y2 - y1)))
+    sum
 }
 
 /// Perpendicular rectangles in arbitrary aligned position with the common axis y (Howell
-/// section C; 8.2 row 9). A1 = {(x, y, 0)}, x in [x1,x2], y in [y1,y2] (facing +z); A2 =
-/// {(0, eta, xi)}, eta in [eta1,eta2], xi in [xi1,xi2] (facing +x); x1 >= 0 and xi1 >= 0.
+/// section C; 8.2 row 9). A1 = {(x, y, 0)}, x in [x1, x2], y in [y1, y2] (facing +z); A2 =
+/// {(0, eta, xi)}, eta in [eta1, eta2], xi in [xi1, xi2] (facing +x); x1 >= 0 and xi1 >= 0.
 /// F12 = 1/((x2-x1)(y2-y1)) sum (-1)^(i+j+k+l) G(x_i, y_j, eta_k, xi_l) with
 /// G = (1/2pi)[ (y-eta) sqrt(x^2+xi^2) atan((y-eta)/sqrt(x^2+xi^2))
 ///            - (1/4)(x^2 + xi^2 - (y-eta)^2) ln(x^2 + xi^2 + (y-eta)^2) ],
@@ -185,18 +191,7 @@ pub fn perpendicular_rectangles_general(
         let b = if r2 > 0.0 { 0.25 * (s2 - v * v) * r2.ln() } else { 0.0 };
         (a - b) / (2.0 * PI)
     };
-    let mut sum = 0.0;
-    for (i, x) in [x1, x2].into_iter().enumerate() {
-        for (j, y) in [y1, y2].into_iter().enumerate() {
-            for (k, eta) in [eta1, eta2].into_iter().enumerate() {
-                for (m, xi) in [xi1, xi2].into_iter().enumerate() {
-                    let sign = if (i + j + k + m) % 2 == 0 { 1.0 } else { -1.0 };
-                    sum += sign * g(x, y, eta, xi);
-                }
-            }
-        }
-    }
-    Ok(sum / ((x2 - x1) * (y2 - y1)))
+    Ok(corner_sum([x1, x2], [y1, y2], [eta1, eta2], [xi1, xi2], g) / ((x2 - x1) * (y2 - y1)))
 }
 
 /// Differential area parallel to a rectangle `a` x `b` whose corner lies on the element's
@@ -251,7 +246,7 @@ mod tests {
         pts
     }
 
-    /// Tensor Gauss-Legendre of f(u, v) over [u0,u1] x [v0,v1]. With `split` > 0 the panels are
+    /// Tensor Gauss-Legendre of f(u, v) over [u0, u1] x [v0, v1]. With `split` > 0 the panels are
     /// graded toward u = u0 and toward both ends of v (for the weak singularities of a point
     /// factor near a shared edge and its corners).
     fn quad2(f: &dyn Fn(f64, f64) -> f64, u: (f64, f64), v: (f64, f64), n: usize, split: usize) -> f64 {

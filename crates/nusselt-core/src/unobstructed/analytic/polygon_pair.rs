@@ -44,7 +44,7 @@ const MIN_LINE_NODES: usize = 4;
 /// lines, D their distance and alpha the angle between the edges:
 ///   Q(s, l) = s^2 + l^2 - 2 s l cos(alpha) + D^2 = |x - y|^2,
 /// and with an antiderivative F (d^2F/ds dl = ln Q) the integral is the four-corner sum
-/// cos(alpha) [F]_{s_i..s_j, l_p..l_q}. Narayanaswamy's f (docs/algorithms.md §4.2) satisfies
+/// cos(alpha) \[F\]_{s_i..s_j, l_p..l_q}. Narayanaswamy's f (docs/algorithms.md §4.2) satisfies
 /// d^2 f/ds dl = -(ln Q + 2) (checked numerically), so here F = -f - 2 s l:
 ///   F = (s l - cos(alpha)(s^2+l^2)/2) ln Q - s h_s atan2(h_s, l - s cos) - l h_l atan2(h_l, s - l cos)
 ///       - 3 s l - (D^2 / (2 sin)) [ImLi2(w_s/p_l, alpha) + ImLi2(p_l/w_s, alpha)
