@@ -16,8 +16,8 @@ run with RAYON_NUM_THREADS=2, the default here), wall the elapsed time. Errors: 
 the largest |F - F_ref| of the matrices aggregated to named surfaces (area-weighted,
 `FormFactors.by_surface`), "patch" the largest over patch pairs. On the big scenes every
 method first runs on `--rows` sampled whole rows (:func:`scale.pair_sample_rows` for pair
-methods) and its CPU is projected to the scene (sample CPU / the sample's share of the
-pairs or rows); only if that is under `--cap` CPU seconds is the whole scene run and timed.
+methods) and its CPU is projected to the scene (the fixed costs of a call once, plus the rows' CPU
+over their share of the pairs or rows); only if that is under `--cap` CPU seconds is the whole scene run and timed.
 Sampled rows give the patch error and the patch-to-surface error (F of a sampled patch to
 each named surface) on those rows. `analytic` and `contour` assume nothing is in between: on the
 scenes with obstacles they refuse (a ValueError naming a blocked pair), and are measured on
@@ -313,14 +313,17 @@ def surface_onehot(surface):
 def sample_full_rows(spec, rows, method, opts=None):
     """(F on `rows` x all columns, CPU s) of a method: pair methods by `scale.pair_sample_rows`
     (the sample patches put first, so each row's pairs are computed once), row methods by the
-    core's row calls. Also the fraction of the scene's work the sample is."""
-    from scale import pair_sample_rows
+    core's row calls. Also the CPU projected to the whole scene."""
+    from scale import _cpu_rss, pair_sample_rows
 
     n, s = len(spec.polygons), len(rows)
     m, o = nusselt.methods.resolve(method, opts or {})
     if m.kind == "pairs":
-        dense, c, _ = cpu_wall(lambda: pair_sample_rows(spec.polygons, rows, method, o)[0])
+        (dense, after_fixed), c, _ = cpu_wall(lambda: pair_sample_rows(spec.polygons, rows, method, o))
+        rows_cpu = _cpu_rss()[0] - after_fixed
         share = (s * (n - 1) - s * (s - 1) / 2) / (n * (n - 1) / 2)
+        # the fixed costs (scene, first call) once, the rows' CPU scaled to all pairs
+        return dense, c, c - rows_cpu + rows_cpu / share
     else:
         core = spec.scene()._core
         (indptr, indices, data, _, _), c, _ = cpu_wall(lambda: core.full_rows(np.asarray(rows, np.int64), method, o))
@@ -328,8 +331,7 @@ def sample_full_rows(spec, rows, method, opts=None):
         for r in range(s):
             sl = slice(indptr[r], indptr[r + 1])
             dense[r, indices[sl]] = data[sl]
-        share = s / n
-    return dense, c, share
+    return dense, c, c * n / s
 
 
 def big_scene_rows(key, spec, scene, args):
@@ -372,20 +374,20 @@ def big_scene_rows(key, spec, scene, args):
             print(json.dumps(line), flush=True)
             continue
         try:
-            f, c, share = sample_full_rows(spec, rows, method)
+            f, c, projected = sample_full_rows(spec, rows, method)
         except ValueError as e:
             line["note"] = f"error on sampled rows: {e}"
             out.append(line)
             print(json.dumps(line), flush=True)
             continue
-        line.update(sample_cpu=c, projected_cpu=c / share, **sampled_errors(f))
-        if c / share <= args.cap:
+        line.update(sample_cpu=c, projected_cpu=projected, **sampled_errors(f))
+        if projected <= args.cap:
             res, c, w = cpu_wall(lambda: nusselt.form_factors(scene, method=method))
             line.update(cpu=c, wall=w, sampled=False)
             line.update(errors(res, ref) if ref is not None else sampled_errors(res.dense()[rows]))
             line["note"] = "whole scene"
         else:
-            line.update(cpu=c / share, sampled=True, note=f"{len(rows)} rows, CPU projected")
+            line.update(cpu=projected, sampled=True, note=f"{len(rows)} rows, CPU projected")
         line["load"] = os.getloadavg()[0]
         out.append(line)
         print(json.dumps(line), flush=True)
