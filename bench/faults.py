@@ -39,19 +39,9 @@ import time
 from collections import Counter
 
 import numpy as np
-
-sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "tests"))
-from conftest import cube_faces
+from cube import write_cube_obj
 
 import nusselt.io as nio
-
-
-def write_obj(path: str, n: int) -> None:
-    polys, _ = cube_faces(n)
-    with open(path, "w") as fh:
-        for p in polys:
-            fh.writelines(f"v {x!r} {y!r} {z!r}\n" for x, y, z in p.tolist())
-        fh.writelines("f " + " ".join(str(4 * k + i) for i in range(1, 5)) + "\n" for k in range(len(polys)))
 
 
 def run(cmd: list[str], **kw) -> subprocess.CompletedProcess:
@@ -142,7 +132,7 @@ def main() -> int:
     rng = random.Random(args.seed)
     work = tempfile.mkdtemp(prefix="nusselt-faults-")
     scene = os.path.join(work, "cube.obj")
-    write_obj(scene, args.n)
+    write_cube_obj(scene, args.n)
     base = [
         sys.executable,
         "-m",
@@ -161,7 +151,7 @@ def main() -> int:
     t_ref = time.perf_counter() - t0
     # blocks of another scene, for the "foreign" corruption
     other = os.path.join(work, "other.obj")
-    write_obj(other, args.n - 1)
+    write_cube_obj(other, args.n - 1)
     fp = subprocess.Popen(
         [
             sys.executable,
