@@ -55,6 +55,7 @@ import numpy as np  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(__file__))
 import scenes  # noqa: E402
+from conftest import LONG_CALLS  # noqa: E402  (tests/ is on the path through scenes)
 
 import nusselt  # noqa: E402
 
@@ -417,21 +418,6 @@ def budget(args):
             lo, hi = (lo, mid) if passes(m, o, mid) else (mid, hi)
         _, c = repeated_cpu(lambda: nusselt.view_factor(a, b, obstacles=obs, method=m, **o), min_total=0.3)
         print(f"{m:12s} {str(o):34s} units {hi:>11d}  CPU {c * 1e3:9.2f} ms  units/s {hi / c:.2e}", flush=True)
-
-
-# options that make one call run for minutes (budget unlimited), per method
-LONG_CALLS = {
-    "auto": {"obstructed_tol": 1e-14},
-    "clipping": {"tol": 1e-14, "max_depth": 16},
-    "quadrature": {"order": 32, "tol": 1e-14, "control_variate": False},
-    "montecarlo": {"samples": 2**24, "control_variate": False},
-    "subdivision": {"divisions": 256, "source": 16},
-    "adaptive": {"tol": 1e-14, "max_depth": 16, "source": 16},
-    "hemicube": {"resolution": 4096, "source": 16},
-    "single-plane": {"min_cell": 1e-4, "half_width": 1e4, "source": 16},
-    "raytrace": {"rays": 2**26},
-    "nusselt": {"cells": 2**24, "source": 16},
-}
 
 
 def interrupt_latency(call, after=0.3):

@@ -113,3 +113,19 @@ def uv_sphere(radius, nu, nv, centre):
 @pytest.fixture
 def unit_square():
     return rect(0, 1, 0, 1)
+
+
+# options that make one call run for minutes, per method (budget unlimited): the Ctrl-C tests
+# and `bench/methods.py interrupt`
+LONG_CALLS = {
+    "auto": {"obstructed_tol": 1e-14},
+    "clipping": {"tol": 1e-14, "max_depth": 16},
+    "quadrature": {"order": 32, "tol": 1e-14, "control_variate": False},
+    "montecarlo": {"samples": 2**24, "control_variate": False},
+    "subdivision": {"divisions": 256, "source": 16},
+    "adaptive": {"tol": 1e-14, "max_depth": 16, "source": 16},
+    "hemicube": {"resolution": 4096, "source": 16},
+    "single-plane": {"min_cell": 1e-4, "half_width": 1e4, "source": 16},
+    "raytrace": {"rays": 2**26},
+    "nusselt": {"cells": 2**24, "source": 16},
+}

@@ -6,7 +6,7 @@ import time
 
 import numpy as np
 import pytest
-from conftest import rect
+from conftest import LONG_CALLS, rect
 
 import nusselt
 from nusselt import _core
@@ -112,19 +112,6 @@ def _interrupt_after(seconds):
     return t
 
 
-# options that make one call run for minutes, per method (budget unlimited)
-LONG_CALLS = {
-    "auto": {"obstructed_tol": 1e-14},
-    "clipping": {"tol": 1e-14, "max_depth": 16},
-    "quadrature": {"order": 32, "tol": 1e-14, "control_variate": False},
-    "montecarlo": {"samples": 2**24, "control_variate": False},
-    "subdivision": {"divisions": 256, "source": 16},
-    "adaptive": {"tol": 1e-14, "max_depth": 16, "source": 16},
-    "hemicube": {"resolution": 4096, "source": 16},
-    "single-plane": {"min_cell": 1e-4, "half_width": 1e4, "source": 16},
-    "raytrace": {"rays": 2**26},
-    "nusselt": {"cells": 2**24, "source": 16},
-}
 MANY = [rect(0.1 * k, 0.1 * k + 0.05, 0.2, 0.8, z=0.5) for k in range(10)]
 
 
