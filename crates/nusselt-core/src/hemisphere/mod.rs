@@ -198,9 +198,10 @@ pub(crate) fn row_over_points(
         let (seed, rotation) = match points {
             Points::Rule { source, seed, rotation } => {
                 let size = scene_diameter(scene);
-                source.generate(src, size, seed, i, pts);
-                if matches!(source, SourcePoints::Auto | SourcePoints::Gauss(_)) {
-                    rule_over_pieces(&source_cuts::source_pieces(scene, i), source, size, seed, i, pts);
+                let cut = matches!(source, SourcePoints::Auto | SourcePoints::Gauss(_))
+                    && rule_over_pieces(&source_cuts::source_pieces(scene, i), source, size, seed, i, pts);
+                if !cut {
+                    source.generate(src, size, seed, i, pts);
                 }
                 (seed, rotation)
             }
@@ -224,7 +225,8 @@ pub(crate) fn row_over_points(
 
 /// Replaces the points of a Gauss rule over a whole source by the rule over each of `pieces`
 /// (the source cut where other polygons stand on it, [`source_cuts::source_pieces`]), each
-/// piece's weights scaled by its share of the area. No pieces: `pts` is left as it is.
+/// piece's weights scaled by its share of the area. Returns false (and leaves `pts` alone)
+/// when there are no pieces: the caller places the rule on the whole patch.
 fn rule_over_pieces(
     pieces: &[Vec<Vec3>],
     source: SourcePoints,
@@ -232,11 +234,11 @@ fn rule_over_pieces(
     seed: u64,
     i: usize,
     pts: &mut Vec<(Vec3, f64)>,
-) {
+) -> bool {
     let polys: Vec<Polygon> = pieces.iter().filter_map(|p| Polygon::new(p.clone()).ok()).collect();
     let total: f64 = polys.iter().map(Polygon::area).sum();
     if polys.is_empty() || !(total > 0.0) {
-        return;
+        return false;
     }
     pts.clear();
     let mut one = Vec::new();
@@ -245,6 +247,7 @@ fn rule_over_pieces(
         let share = piece.area() / total;
         pts.extend(one.iter().map(|&(x, w)| (x, w * share)));
     }
+    true
 }
 
 /// Validates the common arguments of a row computation.
