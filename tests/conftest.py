@@ -55,6 +55,15 @@ def cube_faces(n=1, size=1.0):
     return polys, np.array(which)
 
 
+def write_cube_obj(path, n):
+    """The closed n x n cube of :func:`cube_faces` as an OBJ file (4 vertices per face)."""
+    polys, _ = cube_faces(n)
+    with open(path, "w") as fh:
+        for p in polys:
+            fh.writelines(f"v {x!r} {y!r} {z!r}\n" for x, y, z in p.tolist())
+        fh.writelines("f " + " ".join(str(4 * k + i) for i in range(1, 5)) + "\n" for k in range(len(polys)))
+
+
 def corner(a, b, c):
     """F from dA to an a x b rectangle in a parallel plane at distance c, the normal of dA
     through one corner of it (Howell's catalogue, B-4)."""

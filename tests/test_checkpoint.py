@@ -12,7 +12,7 @@ import sys
 
 import numpy as np
 import pytest
-from conftest import cube_faces
+from conftest import cube_faces, write_cube_obj
 
 import nusselt
 from nusselt import checkpoint as ck
@@ -144,11 +144,7 @@ def test_a_refused_resume_says_what_changed(tmp_path, change, expect):
 
 def test_cli_refuses_a_damaged_checkpoint_with_exit_2_and_one_line(tmp_path, capsys):
     obj = tmp_path / "cube.obj"
-    polys, _ = cube_faces(3)
-    with open(obj, "w") as fh:
-        for p in polys:
-            fh.writelines(f"v {x!r} {y!r} {z!r}\n" for x, y, z in p.tolist())
-        fh.writelines("f " + " ".join(str(4 * k + i) for i in range(1, 5)) + "\n" for k in range(len(polys)))
+    write_cube_obj(obj, 3)
     out = tmp_path / "f.npz"
     partial = tmp_path / "f.npz.partial"
     # a checkpoint as a killed run leaves it: made by the library with the CLI's settings
@@ -356,11 +352,7 @@ def test_a_directory_that_holds_a_run_is_checked_before_any_work_even_when_defer
 
 def test_the_cli_writes_no_checkpoint_for_a_short_run_and_from_the_start_with_checkpoint(tmp_path, monkeypatch):
     obj = tmp_path / "cube.obj"
-    polys, _ = cube_faces(4)
-    with open(obj, "w") as fh:
-        for p in polys:
-            fh.writelines(f"v {x!r} {y!r} {z!r}\n" for x, y, z in p.tolist())
-        fh.writelines("f " + " ".join(str(4 * k + i) for i in range(1, 5)) + "\n" for k in range(len(polys)))
+    write_cube_obj(obj, 4)
     saved = []
     save = ck.Checkpoint.save
     monkeypatch.setattr(ck.Checkpoint, "save", lambda self, *a: saved.append(self.path) or save(self, *a))

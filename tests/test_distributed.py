@@ -7,7 +7,7 @@ import os
 
 import numpy as np
 import pytest
-from conftest import cube_faces
+from conftest import cube_faces, write_cube_obj
 
 import nusselt
 import nusselt.blocks
@@ -99,11 +99,7 @@ def test_cli_dask_local(tmp_path):
     from nusselt.cli import main
 
     obj = tmp_path / "cube.obj"
-    polys, _ = cube_faces(2)
-    with open(obj, "w") as fh:
-        for p in polys:
-            fh.writelines(f"v {v[0]} {v[1]} {v[2]}\n" for v in p)
-        fh.writelines("f " + " ".join(str(4 * k + i + 1) for i in range(4)) + "\n" for k in range(len(polys)))
+    write_cube_obj(obj, 2)
     out_local, out_far = tmp_path / "a.npz", tmp_path / "b.npz"
     assert main(["matrix", str(obj), "-o", str(out_local), "-q", "--block-size", "50"]) == 0
     assert main(["matrix", str(obj), "-o", str(out_far), "-q", "--block-size", "50", "--dask", "local:1"]) == 0
