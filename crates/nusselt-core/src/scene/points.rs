@@ -12,7 +12,7 @@
 
 use super::{blocked_clusters, bounding_box, morton_ranks, AllOptions, AnyMethod, Scene};
 use crate::error::{Error, Result};
-use crate::geometry::{tangent_frame, Polygon, Vec3};
+use crate::geometry::{tangent_frame, turns_left, Polygon, Vec3};
 use crate::matrix::PairBlock;
 use crate::obstructed::{self, Context, VisMethod};
 use crate::quadrature::AreaRule;
@@ -31,6 +31,9 @@ struct Targets<'a> {
 
 /// What to do with a pair (point, target k) that has candidate blockers left.
 type Hard<'a> = dyn Fn(Vec3, Vec3, usize, &[&Polygon]) -> Result<f64> + Sync + 'a;
+
+/// The sky view factor at a point: `sky(p, unit n, skip)` (see `Scene::with_sky`).
+type SkyAt<'a> = dyn Fn(Vec3, Vec3, Option<u32>) -> Result<f64> + Sync + 'a;
 
 impl Scene {
     /// Largest distance of a vertex from the centre of the scene's box (the scale of the
@@ -161,18 +164,7 @@ impl Scene {
         if self.polygons.is_empty() {
             return Ok(vec![1.0; points.len()]);
         }
-        let ctx = self.context()?;
-        let both = sky_polygons(&ctx)?;
-        let targets = sky_targets(&both);
-        let (centre, radius) = self.extent();
-        let hard =
-            |p: Vec3, n: Vec3, k: usize, blockers: &[&Polygon]| Ok(point_visible_view_factor(p, n, &both[k], blockers));
-        per_point(points, normals, cancel, |p, n| {
-            let row = point_row(Some(&ctx), p, n, &targets, None, &hard, radius + p.distance(centre))?;
-            Ok(sky_from(&row))
-        })
-        .into_iter()
-        .collect()
+        self.with_sky(|sky, _| per_point(points, normals, cancel, |p, n| sky(p, n, None)).into_iter().collect())
     }
 
     /// The sky view factor of each receiver patch in `rows`: the point sky view factor
@@ -184,36 +176,40 @@ impl Scene {
         if let Some(&i) = rows.iter().find(|&&i| i >= self.polygons.len()) {
             return Err(Error::InvalidArgument(format!("no polygon {i} (the scene has {})", self.polygons.len())));
         }
+        self.with_sky(|sky, ctx| {
+            rows.par_iter()
+                .map(|&i| {
+                    if cancel.load(Ordering::Relaxed) {
+                        return Err(Error::Cancelled);
+                    }
+                    let poly = &self.polygons[i];
+                    let rule = AreaRule::try_new(poly, order)?;
+                    let own = ctx.occluders.owner[i];
+                    let mut sum = 0.0;
+                    for (&p, &w) in rule.points.iter().zip(&rule.weights) {
+                        sum += w * sky(p, poly.normal(), Some(own))?;
+                    }
+                    Ok((sum / poly.area()).clamp(0.0, 1.0))
+                })
+                .collect()
+        })
+    }
+
+    /// Runs `f` with the sky view factor at a point, `sky(p, unit n, skip)` (`skip`: an
+    /// occluder that blocks nothing for p, the patch it lies on), and the scene's context:
+    /// the setup [`Scene::point_sky`] and [`Scene::patch_sky`] share.
+    fn with_sky<T>(&self, f: impl FnOnce(&SkyAt, &Context) -> Result<T>) -> Result<T> {
         let ctx = self.context()?;
         let both = sky_polygons(&ctx)?;
         let targets = sky_targets(&both);
         let (centre, radius) = self.extent();
         let hard =
             |p: Vec3, n: Vec3, k: usize, blockers: &[&Polygon]| Ok(point_visible_view_factor(p, n, &both[k], blockers));
-        rows.par_iter()
-            .map(|&i| {
-                if cancel.load(Ordering::Relaxed) {
-                    return Err(Error::Cancelled);
-                }
-                let poly = &self.polygons[i];
-                let rule = AreaRule::try_new(poly, order)?;
-                let own = ctx.occluders.owner[i];
-                let mut sum = 0.0;
-                for (&p, &w) in rule.points.iter().zip(&rule.weights) {
-                    let row = point_row(
-                        Some(&ctx),
-                        p,
-                        poly.normal(),
-                        &targets,
-                        Some(own),
-                        &hard,
-                        radius + p.distance(centre),
-                    )?;
-                    sum += w * sky_from(&row);
-                }
-                Ok((sum / poly.area()).clamp(0.0, 1.0))
-            })
-            .collect()
+        let sky = |p: Vec3, n: Vec3, skip: Option<u32>| -> Result<f64> {
+            let row = point_row(Some(&ctx), p, n, &targets, skip, &hard, radius + p.distance(centre))?;
+            Ok(sky_from(&row))
+        };
+        f(&sky, &ctx)
     }
 
     /// Whether each ray origin + t dir, t > 1e-9 of the scene's size, meets any polygon of
@@ -350,8 +346,8 @@ fn cone_candidates(p: Vec3, b: &Polygon, ignore: &[u32], among: &[u32], occ: &[P
     let c = b.centroid();
     let size = b.radius() + p.distance(c);
     let tol = 1e-10 * size;
-    // convex: every turn to the left about b's normal
-    if (0..m).any(|k| (v[(k + 1) % m] - v[k]).cross(v[(k + 2) % m] - v[(k + 1) % m]).dot(nb) < -1e-12 * size * size) {
+    // convex: every turn to the left about b's normal (straight within rounding passes)
+    if !turns_left(v, |a, b, c| ((b - a).cross(c - b).dot(nb), size), -1e-12 * size) {
         return false;
     }
     let h = nb.dot(p - c);
