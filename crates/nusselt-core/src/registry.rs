@@ -12,7 +12,7 @@
 use crate::error::{Error, Result};
 use crate::hemisphere::nusselt_analog::MAX_CELLS;
 use crate::hemisphere::raytrace::MAX_RAYS;
-use crate::hemisphere::SourcePoints;
+use crate::hemisphere::{SourcePoints, MAX_GAUSS_ORDER};
 use crate::obstructed::VisMethod;
 use crate::scene::{AllOptions, AnyMethod, RowMethod};
 use crate::unobstructed::contour::DEFAULT_NODES;
@@ -140,7 +140,7 @@ const fn source(default: &'static str, keywords: &'static [&'static str], doc: &
         ty: OptionType::Source,
         default: Default::Keyword(default),
         lo: 0.0,
-        hi: 16.0,
+        hi: MAX_GAUSS_ORDER as f64,
         keywords,
         doc,
     }

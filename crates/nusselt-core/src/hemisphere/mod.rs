@@ -77,7 +77,7 @@ pub enum SourcePoints {
     /// A k x k Gauss-Legendre product rule on the patch (bilinear map for a convex quad,
     /// collapsed map per triangle otherwise, see [`crate::quadrature::polygon_gauss_points`]):
     /// converges much faster than random points where F_{dA -> A_j} varies smoothly over the
-    /// patch. 1 <= k <= 16.
+    /// patch. 1 <= k <= [`MAX_GAUSS_ORDER`].
     Gauss(u32),
     /// Chooses by the patch's size relative to the scene, rho = radius_i / (AUTO_REL_SIZE *
     /// scene diameter): the centroid for rho <= 1, else Gauss(min(ceil(rho), AUTO_MAX_ORDER)).
@@ -97,12 +97,17 @@ pub const AUTO_REL_SIZE: f64 = 0.03;
 pub const AUTO_MAX_ORDER: u32 = 8;
 /// Largest number of source points accepted.
 pub const MAX_SOURCE_POINTS: u32 = 4096;
+/// Largest k of a k x k Gauss rule of source points (also the range of every method's
+/// `source` option in the registry).
+pub const MAX_GAUSS_ORDER: u32 = 16;
 
 impl SourcePoints {
     pub(crate) fn check(&self) -> Result<()> {
         if let SourcePoints::Gauss(k) = *self {
-            if k == 0 || k > 16 {
-                return Err(Error::InvalidArgument(format!("source points: Gauss order {k} is out of range 1..=16")));
+            if k == 0 || k > MAX_GAUSS_ORDER {
+                return Err(Error::InvalidArgument(format!(
+                    "source points: Gauss order {k} is out of range 1..={MAX_GAUSS_ORDER}"
+                )));
             }
         }
         if let SourcePoints::Points(n) = *self {
