@@ -20,7 +20,7 @@ mod subdivision;
 use crate::error::{Error, Result};
 use crate::geometry::{Polygon, Vec3};
 use crate::quadrature::AreaRule;
-use crate::sampling::{sobol4, PolygonSampler};
+use crate::sampling::PolygonSampler;
 use crate::unobstructed::analytic;
 use crate::unobstructed::method::{self, Method, RuleCache};
 use crate::visibility::shadow::{
@@ -31,7 +31,8 @@ use clipping::{adaptive_over_source, clearance, ShadowTest};
 use kinks::split_at_kinks;
 use rules::{area_source_points, source_points};
 use sampled::{
-    cut_at_blocker_planes, kernel, mean_and_error, montecarlo, pair_order, quadrature, stratum_samples, stratum_seed,
+    cut_at_blocker_planes, kernel, mean_and_error, montecarlo, pair_order, quadrature, rqmc_estimates, stratum_samples,
+    RQMC_REPS,
 };
 use subdivision::{adaptive_point, subdivide_at_blockers, uniform_point};
 
@@ -264,42 +265,24 @@ pub fn point(ctx: &Context, p: Vec3, n: Vec3, j: usize, m: VisMethod, o: &VisOpt
         }
         VisMethod::MonteCarlo => {
             // strata: the receiver's pieces cut along the blockers' planes, as in the pair form
-            let reps = 8usize;
-            let per = (o.samples / reps).max(1);
+            let per = (o.samples / RQMC_REPS).max(1);
             let strata: Vec<(PolygonSampler, f64, usize)> = cut_at_blocker_planes(b, &blockers)
                 .iter()
                 .map(|q| (PolygonSampler::new(q), q.area(), stratum_samples(per, q.area() / b.area())))
                 .collect();
-            let mut est = Vec::with_capacity(reps);
-            for r in 0..reps {
-                let mut mean = 0.0;
-                for (s, (sampler, area, count)) in strata.iter().enumerate() {
-                    let seed = stratum_seed(o.seed, [j as u64, u64::MAX, r as u64], s, strata.len());
-                    let mut acc = 0.0;
-                    for k in 0..*count {
-                        if k % 1024 == 0 && !crate::work::go_on() {
-                            break;
-                        }
-                        let u = sobol4(k as u32, seed);
-                        let y = sampler.sample([u[0], u[1]]);
-                        let blocked = !visible(y);
-                        let w = kernel(p, n, y, b.normal());
-                        acc += if o.control_variate {
-                            if blocked {
-                                w
-                            } else {
-                                0.0
-                            }
-                        } else if blocked {
-                            0.0
-                        } else {
-                            w
-                        };
-                    }
-                    mean += area * acc / *count as f64;
+            let sizes: Vec<(f64, usize)> = strata.iter().map(|s| (s.1, s.2)).collect();
+            let est = rqmc_estimates(o.seed, [j as u64, u64::MAX], &sizes, |s, u| {
+                let y = strata[s].0.sample([u[0], u[1]]);
+                let blocked = !visible(y);
+                let w = kernel(p, n, y, b.normal());
+                // control variate: the unblocked integral is exact, sample the blocked part
+                if blocked == o.control_variate {
+                    w
+                } else {
+                    0.0
                 }
-                est.push(if o.control_variate { lambert - mean } else { mean });
-            }
+            });
+            let est: Vec<f64> = est.iter().map(|&mean| if o.control_variate { lambert - mean } else { mean }).collect();
             mean_and_error(&est)
         }
         VisMethod::Subdivision => {

@@ -135,10 +135,13 @@ pub(super) fn stratum_samples(n: usize, fraction: f64) -> usize {
 
 /// The scrambling seed of stratum `s` (of `strata`) for `key`: the key's own seed when there
 /// is one stratum, so unstratified results stay as they were.
-pub(super) fn stratum_seed(seed: u64, key: [u64; 3], s: usize, strata: usize) -> u64 {
+fn stratum_seed(seed: u64, key: [u64; 3], s: usize, strata: usize) -> u64 {
     let k = [key[0], key[1], key[2], s as u64];
     hash_seed(seed, &k[..if strata == 1 { 3 } else { 4 }])
 }
+
+/// Independent scramblings per RQMC estimate (their spread gives the standard error).
+pub(super) const RQMC_REPS: usize = 8;
 
 /// Area-to-area RQMC: 8 independent Owen scramblings of a 4-D Sobol sequence; the spread of
 /// the 8 estimates gives the standard error.
@@ -155,8 +158,7 @@ pub(super) fn montecarlo(
     // [`cut_at_blocker_planes`]), each with its share of the samples: behind a partition the
     // hidden part is then a whole stratum, sampled without the visibility step
     let (pa, pb) = (cut_at_blocker_planes(a, blockers), cut_at_blocker_planes(b, blockers));
-    let reps = 8usize;
-    let per = (o.samples / reps).max(1);
+    let per = (o.samples / RQMC_REPS).max(1);
     let strata: Vec<(PolygonSampler, PolygonSampler, f64, usize)> = pa
         .iter()
         .flat_map(|x| pb.iter().map(move |y| (x, y)))
@@ -165,31 +167,50 @@ pub(super) fn montecarlo(
             (PolygonSampler::new(x), PolygonSampler::new(y), x.area() * y.area(), stratum_samples(per, share))
         })
         .collect();
-    let mut est = Vec::with_capacity(reps);
-    for r in 0..reps {
+    let sizes: Vec<(f64, usize)> = strata.iter().map(|s| (s.2, s.3)).collect();
+    let est = rqmc_estimates(o.seed, [i as u64, j as u64], &sizes, |s, u| {
+        let (sa, sb) = (&strata[s].0, &strata[s].1);
+        let x = sa.sample([u[0], u[1]]);
+        let y = sb.sample([u[2], u[3]]);
+        let kv = kernel(x, a.normal(), y, b.normal());
+        if kv > 0.0 && pred.is_none_or(|p| p(x, y)) {
+            kv
+        } else {
+            0.0
+        }
+    });
+    mean_and_error(&est)
+}
+
+/// Independent scramblings of the RQMC estimators (the pair form and the point form of
+/// `montecarlo`): per scrambling r, the sum over strata s (`strata[s]` = (measure, samples))
+/// of measure x the mean of `term(s, u)` over the first samples points u of the 4-D Sobol
+/// sequence scrambled for (key, r, s). Each pair gets its own scrambling, so results do not
+/// depend on the order of pairs.
+pub(super) fn rqmc_estimates(
+    seed: u64,
+    key: [u64; 2],
+    strata: &[(f64, usize)],
+    mut term: impl FnMut(usize, [f64; 4]) -> f64,
+) -> Vec<f64> {
+    let mut est = Vec::with_capacity(RQMC_REPS);
+    for r in 0..RQMC_REPS {
         let mut total = 0.0;
-        for (s, (sa, sb, area, n)) in strata.iter().enumerate() {
-            // every pair gets its own scrambling: results do not depend on the order of pairs
-            let seed = stratum_seed(o.seed, [i as u64, j as u64, r as u64], s, strata.len());
+        for (s, &(measure, n)) in strata.iter().enumerate() {
+            let seed = stratum_seed(seed, [key[0], key[1], r as u64], s, strata.len());
             let mut acc = 0.0;
-            for k in 0..*n {
+            for k in 0..n {
                 // [methods] stop at cancellation or over budget (the result is discarded)
                 if k % 1024 == 0 && !crate::work::go_on() {
                     break;
                 }
-                let u = sobol4(k as u32, seed);
-                let x = sa.sample([u[0], u[1]]);
-                let y = sb.sample([u[2], u[3]]);
-                let kv = kernel(x, a.normal(), y, b.normal());
-                if kv > 0.0 && pred.is_none_or(|p| p(x, y)) {
-                    acc += kv;
-                }
+                acc += term(s, sobol4(k as u32, seed));
             }
-            total += area * acc / *n as f64;
+            total += measure * acc / n as f64;
         }
         est.push(total);
     }
-    mean_and_error(&est)
+    est
 }
 
 pub(super) fn mean_and_error(est: &[f64]) -> Estimate {
