@@ -513,7 +513,7 @@ class Scene:
             if self.obstruction[k]:
                 emit(v, k)
                 continue
-            if len(v) == 4 and _is_convex(v, self.normals[k]):
+            if len(v) == 4 and self._core.strictly_convex(k):
                 nu = max(1, int(np.ceil(max(np.linalg.norm(v[1] - v[0]), np.linalg.norm(v[2] - v[3])) / max_edge)))
                 nv = max(1, int(np.ceil(max(np.linalg.norm(v[3] - v[0]), np.linalg.norm(v[2] - v[1])) / max_edge)))
                 s, t = np.linspace(0, 1, nu + 1), np.linspace(0, 1, nv + 1)
@@ -552,11 +552,6 @@ class Scene:
         if self._origin is not None and k < len(self._origin):
             return f"face {k} ({self._origin[k]})"
         return f"face {k}"
-
-
-def _is_convex(v: np.ndarray, n: np.ndarray) -> bool:
-    m = len(v)
-    return all(np.cross(v[(i + 1) % m] - v[i], v[(i + 2) % m] - v[(i + 1) % m]) @ n > 0 for i in range(m))
 
 
 def _unique_in_order(items: list[str]) -> tuple[list[str], np.ndarray]:

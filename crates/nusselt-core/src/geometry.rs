@@ -143,6 +143,12 @@ impl Polygon {
     pub fn triangulate(&self) -> Vec<[usize; 3]> {
         triangulate(&self.vertices, self.normal)
     }
+    /// True when every corner turns left about the normal by a sine of at least 1e-12
+    /// (strictly convex: a quadrilateral's bilinear map is then one-to-one), by
+    /// [`turns_left`]. Python's `Scene.refined` and the area rules split such quads bilinearly.
+    pub fn is_strictly_convex(&self) -> bool {
+        turns_left(&self.vertices, turn_about(self.normal), 1e-12)
+    }
 }
 
 /// The union of the convex outlines `s` and `t` (the same orientation) when they share an

@@ -94,6 +94,16 @@ impl SceneCore {
             .ok_or_else(|| pyo3::exceptions::PyIndexError::new_err(format!("no polygon {k}")))
     }
 
+    /// Whether polygon k is strictly convex ([`Polygon::is_strictly_convex`], the core's one
+    /// convexity test).
+    fn strictly_convex(&self, k: usize) -> PyResult<bool> {
+        self.scene
+            .polygons()
+            .get(k)
+            .map(|p| p.is_strictly_convex())
+            .ok_or_else(|| pyo3::exceptions::PyIndexError::new_err(format!("no polygon {k}")))
+    }
+
     /// True when no polygon of the scene can block another pair.
     fn unobstructed(&self, py: Python<'_>) -> bool {
         let pool = pool();

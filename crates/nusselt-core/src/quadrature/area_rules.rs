@@ -2,7 +2,7 @@
 
 use super::gauss::{check_order, gauss_jacobi10, gauss_legendre, MAX_ORDER};
 use crate::error::Result;
-use crate::geometry::{turn_about, turns_left, Polygon, Vec3};
+use crate::geometry::{Polygon, Vec3};
 
 /// Quadrature points and weights on a polygon: Σ w_k f(x_k) ≈ ∫_P f dA, Σ w_k = area.
 ///
@@ -28,7 +28,7 @@ impl AreaRule {
         let v = poly.vertices();
         let n = poly.normal();
         let mut rule = AreaRule { points: Vec::new(), weights: Vec::new() };
-        if v.len() == 4 && turns_left(v, turn_about(n), 1e-12) {
+        if v.len() == 4 && poly.is_strictly_convex() {
             // strictly convex: the bilinear map is one-to-one
             rule.push_quad(v, n, order);
         } else if v.len() == 3 {
