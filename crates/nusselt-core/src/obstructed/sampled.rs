@@ -46,15 +46,26 @@ pub(super) fn quadrature(
     for ra in &ra {
         for rb in &rb {
             for (x, wx) in ra.points.iter().zip(&ra.weights) {
-                // [methods] stop at cancellation or over budget (the result is discarded)
-                if !crate::work::go_on() {
-                    return g;
-                }
+                // [methods] one work unit per point pair: a pair whose visibility is tested
+                // pays by its ray, the others here (with those of the last x: one call per x);
+                // stop at cancellation or over budget (the result is discarded)
+                let mut untested = 0u64;
                 for (y, wy) in rb.points.iter().zip(&rb.weights) {
                     let k = kernel(*x, a.normal(), *y, b.normal());
-                    if k > 0.0 && pred.is_none_or(|p| p(*x, *y)) {
-                        g += wx * wy * k;
+                    match pred {
+                        Some(p) if k > 0.0 => {
+                            if p(*x, *y) {
+                                g += wx * wy * k;
+                            }
+                        }
+                        _ => {
+                            untested += 1;
+                            g += wx * wy * k;
+                        }
                     }
+                }
+                if !crate::work::spend(untested) {
+                    return g;
                 }
             }
         }
@@ -172,19 +183,31 @@ pub(super) fn montecarlo(
             // every pair gets its own scrambling: results do not depend on the order of pairs
             let seed = stratum_seed(o.seed, [i as u64, j as u64, r as u64], s, strata.len());
             let mut acc = 0.0;
+            // [methods] one work unit per sample: a sample whose visibility is tested pays by
+            // its ray, the others here, 1 024 at a time; stop at cancellation or over budget
+            // (the result is discarded)
+            let mut untested = 0u64;
             for k in 0..*n {
-                // [methods] stop at cancellation or over budget (the result is discarded)
-                if k % 1024 == 0 && !crate::work::go_on() {
+                if k % 1024 == 0 && !crate::work::spend(std::mem::take(&mut untested)) {
                     break;
                 }
                 let u = sobol4(k as u32, seed);
                 let x = sa.sample([u[0], u[1]]);
                 let y = sb.sample([u[2], u[3]]);
                 let kv = kernel(x, a.normal(), y, b.normal());
-                if kv > 0.0 && pred.is_none_or(|p| p(x, y)) {
-                    acc += kv;
+                match pred {
+                    Some(p) if kv > 0.0 => {
+                        if p(x, y) {
+                            acc += kv;
+                        }
+                    }
+                    _ => {
+                        untested += 1;
+                        acc += kv;
+                    }
                 }
             }
+            crate::work::spend(untested);
             total += area * acc / *n as f64;
         }
         est.push(total);
