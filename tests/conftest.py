@@ -128,6 +128,8 @@ def unit_square():
 # and `bench/methods.py interrupt`
 LONG_CALLS = {
     "auto": {"obstructed_tol": 1e-14},
+    "analytic": {"obstructed_tol": 1e-14},
+    "contour": {"obstructed_tol": 1e-14},
     "clipping": {"tol": 1e-14, "max_depth": 16},
     "quadrature": {"order": 32, "tol": 1e-14, "control_variate": False},
     "montecarlo": {"samples": 2**24, "control_variate": False},

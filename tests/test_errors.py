@@ -68,11 +68,6 @@ def test_bad_methods_and_options():
         nusselt.view_factor(GOOD, FACING, tol=float("nan"))
 
 
-def test_obstacles_need_a_visibility_method():
-    with pytest.raises(ValueError, match="obstacles"):
-        nusselt.view_factor(GOOD, FACING, method="analytic", obstacles=[rect(0.2, 0.8, 0.2, 0.8, z=0.5)])
-
-
 def test_bad_points():
     with pytest.raises(ValueError, match="point"):
         nusselt.point_view_factor([0, 0], [0, 0, 1], FACING)

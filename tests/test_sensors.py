@@ -219,11 +219,26 @@ def test_radiant_temperature_errors_and_open_scenes():
         sensors.point_view_factors([[0, 0, 0], [1, 0, 0]], [[0, 0, 1], [0, 0, 0]], scene)
     with pytest.raises(ValueError, match=r"points row 0: not finite"):
         sensors.point_view_factors([[np.nan, 0, 0]], [0, 0, 1], scene)
-    with pytest.raises(ValueError, match="does not handle obstacles"):
-        sensors.point_view_factors([0, 0, 0], [0, 0, 1], scene, method="analytic")
     with pytest.raises(ValueError, match="row method"):
         sensors.point_view_factors([0, 0, 0], [0, 0, 1], scene, method="hemicube")
     assert sensors.point_view_factors([0, 0, 0], [0, 0, 1], scene, method="analytic", obstructed=False).shape == (1, 1)
+
+
+@pytest.mark.parametrize("method", ["analytic", "contour"])
+def test_closed_form_methods_see_the_visible_region(method):
+    """`analytic` and `contour` at sensor points behind a blocker: Lambert's formula on the
+    exact visible region, against the closed form of the plate less the blocker's shadow."""
+    from test_exact_obstructed import CENTRED, HI, point_behind_centred_blocker, point_to_rect
+
+    scene = nusselt.Scene.from_polygons([HI, CENTRED[::-1]], surface=["plate", "blocker"])  # blocker faces down
+    pts = np.array([[0.5, 0.5, 0.0], [0.1, 0.7, 0.0], [0.9, 0.05, 0.0]])
+    f = sensors.point_view_factors(pts, [0, 0, 1], scene, method=method, dense=True)
+    free = sensors.point_view_factors(pts, [0, 0, 1], scene, method=method, obstructed=False, dense=True)
+    for k, (x, y, _) in enumerate(pts):
+        assert f[k, 0] == pytest.approx(point_behind_centred_blocker(x, y), abs=1e-14)
+        assert f[k, 1] == pytest.approx(point_to_rect(x, y, 0.25, 0.75, 0.25, 0.75, 0.5), abs=1e-14)
+        assert free[k, 0] == pytest.approx(point_to_rect(x, y, 0, 1, 0, 1, 1.0), abs=1e-14)
+    assert np.all(f[:, 0] < free[:, 0])
 
 
 def test_sampled_method_matches_exact_within_its_error():

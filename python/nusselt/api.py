@@ -81,7 +81,7 @@ def view_factor(
     """
     a, b = _polygon(pi, "pi"), _polygon(pj, "pj")
     obs = _obstacles(obstacles)
-    _, opts = resolve(method, options, obstructed=bool(obs))
+    _, opts = resolve(method, options)
     try:
         f, s = _core.view_factor(a, b, obs, method, opts, PLANARITY_TOL)
     except _core.GeometryError as err:
@@ -113,7 +113,7 @@ def point_view_factor(
         raise ValueError("normal must be a nonzero vector")
     b = _polygon(pj, "pj")
     obs = _obstacles(obstacles)
-    _, opts = resolve(method, options, obstructed=bool(obs))
+    _, opts = resolve(method, options)
     try:
         f, s = _core.point_view_factor(p, n / length, b, obs, method, opts, PLANARITY_TOL)
     except _core.GeometryError as err:

@@ -116,7 +116,7 @@ def _from_registry() -> dict[str, Method]:
 METHODS: dict[str, Method] = _from_registry()
 
 
-def resolve(method: str, options: dict, *, obstructed: bool = False) -> tuple[Method, dict]:
+def resolve(method: str, options: dict) -> tuple[Method, dict]:
     """Validates a method name and its options; returns the method and the full option set."""
     if not isinstance(method, str) or method not in METHODS:
         raise ValueError(f"unknown method {method!r}; choose one of: {', '.join(METHODS)}")
@@ -125,11 +125,6 @@ def resolve(method: str, options: dict, *, obstructed: bool = False) -> tuple[Me
     if unknown:
         allowed = ", ".join(m.options) or "none"
         raise TypeError(f"method {method!r} has no option {', '.join(sorted(unknown))} (options: {allowed})")
-    if obstructed and not m.obstructed:
-        raise ValueError(
-            f"method {method!r} does not handle obstacles; use a method with visibility "
-            f"({', '.join(k for k, v in METHODS.items() if v.obstructed) or 'none available yet'})"
-        )
     full = {k: o.check(method, k, options.get(k, o.default)) for k, o in m.options.items()}
     return m, full
 

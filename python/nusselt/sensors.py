@@ -144,9 +144,9 @@ def point_view_factors(
     normals : (P, 3) or (3,) array
         Each point's normal (normalised here); it sees the half-space in front of it.
     method : str
-        ``auto`` or ``clipping`` (exact visible regions), another pair method with visibility
-        (``quadrature``, ``subdivision``, ``adaptive``, ``montecarlo``: its per-point
-        estimator where something may block), or ``analytic`` with ``obstructed=False``.
+        ``auto``, ``clipping``, ``analytic`` or ``contour`` (Lambert's form on exact visible
+        regions), or another pair method with visibility (``quadrature``, ``subdivision``,
+        ``adaptive``, ``montecarlo``: its per-point estimator where something may block).
     obstructed : bool
         Every polygon of the scene (obstruction-only ones too) blocks; else Lambert's closed
         form to each receiver alone.
@@ -166,7 +166,7 @@ def point_view_factors(
     n = _unit(_rows(normals, "normals", len(p)))
     if len(n) != len(p):
         raise ValueError(f"{len(p)} points but {len(n)} normals")
-    _, opts = resolve(method, options, obstructed=obstructed)
+    _, opts = resolve(method, options)
     parts = scene._core.point_rows(p, n, method, opts, bool(obstructed))
     f = _assemble(scene, parts, len(p), dense, by_surface)
     if not return_std:

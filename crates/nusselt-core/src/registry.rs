@@ -156,6 +156,15 @@ const BUDGET: OptionSpec = int(
     MAX_BUDGET,
     "most work units (visibility tests, cells or rays) one pair or row may take; more is a ValueError naming it",
 );
+/// `auto`, `analytic`, `contour`: the target of the pairs they compute by `clipping`.
+const OBSTRUCTED_TOL: OptionSpec = float(
+    "obstructed_tol",
+    1e-6,
+    1e-14,
+    0.1,
+    "accuracy target for obstructed pairs, relative to the pair's unobstructed F (so also absolute on F; row sums \
+     within it in enclosures)",
+);
 const SEED: OptionSpec =
     int("seed", 0, 0, 1 << 63, "seed of the scrambled low-discrepancy points (results are reproducible)");
 const ROTATE: OptionSpec =
@@ -188,35 +197,30 @@ pub static METHODS: &[MethodSpec] = &[
               visible region (`clipping`) to `obstructed_tol`",
         options: &[
             float("tol", 1e-10, 1e-15, 0.1, "relative accuracy target per unobstructed pair"),
-            float(
-                "obstructed_tol",
-                1e-6,
-                1e-14,
-                0.1,
-                "accuracy target for obstructed pairs, relative to the pair's unobstructed F (so also absolute on F; row \
-                 sums within it in enclosures)",
-            ),
+            OBSTRUCTED_TOL,
             BUDGET,
         ],
     },
     MethodSpec {
         name: "analytic",
         kind: Kind::Pairs,
-        obstructed: false,
+        obstructed: true,
         doc: "closed form: Lambert's formula for a point, Narayanaswamy's edge-pair formula (exact limits for touching \
               edges) for two polygons; where the edge-pair terms cancel by more than 2e3 (slivers, pairs far apart) an area \
               route with terms of one sign (Gauss on both areas, or Lambert integrated over the smaller polygon) to 1e-14; \
-              assumes nothing is in between",
-        options: &[],
+              for pairs a polygon may block, the exact visible region (`clipping`) from this closed form, to \
+              `obstructed_tol` (a point: Lambert's formula on the exact visible region)",
+        options: &[OBSTRUCTED_TOL, BUDGET],
     },
     MethodSpec {
         name: "contour",
         kind: Kind::Pairs,
-        obstructed: false,
+        obstructed: true,
         doc: "double contour (Stokes) integral: exact inner line integral, Gauss-Legendre outer integral on graded panels, \
               exact closed form where edges touch; sums that cancel by more than 2e3 take the same area route as analytic; \
-              assumes nothing is in between",
-        options: &[int("nodes", DEFAULT_NODES as u64, 1, 64, "Gauss-Legendre nodes per edge panel")],
+              for pairs a polygon may block, the exact visible region (`clipping`) from this integral, to `obstructed_tol` \
+              (a point: Lambert's formula on the exact visible region)",
+        options: &[int("nodes", DEFAULT_NODES as u64, 1, 64, "Gauss-Legendre nodes per edge panel"), OBSTRUCTED_TOL, BUDGET],
     },
     MethodSpec {
         name: "quadrature",
@@ -526,7 +530,7 @@ fn apply(name: &str, key: &str, v: &Value, o: &mut AllOptions) -> Result<()> {
     match (name, key) {
         (_, "budget") => o.budget = as_u64(v),
         ("auto", "tol") => o.exact.tol = as_f64(v),
-        ("auto", "obstructed_tol") => o.vis.tol = as_f64(v),
+        ("auto" | "analytic" | "contour", "obstructed_tol") => o.vis.tol = as_f64(v),
         ("contour", "nodes") => o.exact.nodes = as_u64(v) as usize,
         ("quadrature", "order") => o.vis.order = as_u64(v) as usize,
         ("quadrature", "tol") => o.vis.tol = as_f64(v),
@@ -645,6 +649,10 @@ mod tests {
     fn tol_means_what_each_method_documents() {
         let (_, o) = configure("auto", &[("tol".into(), Value::Float(1e-6))]).unwrap();
         assert_eq!(o.exact.tol, 1e-6);
+        for m in ["auto", "analytic", "contour"] {
+            let (_, o) = configure(m, &[("obstructed_tol".into(), Value::Float(1e-4))]).unwrap();
+            assert_eq!(o.vis.tol, 1e-4, "{m}");
+        }
         let (_, o) = configure("adaptive", &[("tol".into(), Value::Float(1e-3))]).unwrap();
         assert_eq!(o.vis.tol, 1e-3);
         assert_eq!(o.exact.tol, 1e-10);

@@ -266,35 +266,15 @@ impl Scene {
         let free = self.unobstructed();
         let est: Box<dyn Fn(usize, usize) -> Result<Estimate> + Sync> = match m {
             AnyMethod::Row(_) => return Err(Error::InvalidArgument("a row method has no pair rows".into())),
-            AnyMethod::Exact(mm) => {
-                let ctx = if free { None } else { Some(self.context()?) };
-                Box::new(move |i, j| {
-                    if let Some(ctx) = &ctx {
-                        let mut cand = Vec::new();
-                        let owner = &ctx.occluders.owner;
-                        ctx.vis.candidates_between(&p[i], &p[j], &[owner[i], owner[j]], &mut cand);
-                        if !cand.is_empty() {
-                            return Err(Error::InvalidArgument(format!(
-                                "polygons {i} and {j} may be partly hidden by polygon {}: method {:?} assumes \
-                                 nothing is in between; use a method with visibility (auto, clipping, ...)",
-                                ctx.occluders.member[cand[0] as usize],
-                                format!("{mm:?}").to_lowercase()
-                            )));
-                        }
-                    }
-                    Ok(Estimate {
-                        value: method::area_factor(&p[i], &p[j], mm, &o.exact, Some((&self.rules, i, j)))?,
-                        std_err: 0.0,
-                    })
-                })
-            }
+            AnyMethod::Exact(mm) if free => Box::new(move |i, j| Ok(Estimate::exact(self.exact_g(i, j, mm, o)?))),
+            AnyMethod::Exact(_) => return self.visible_rows(rows, m, o, cancel),
             AnyMethod::Visible(VisMethod::Auto) if free => {
                 return Ok(
                     unobstructed_rows::pair_block(p, &self.receiver, &self.rules, rows, &o.exact, cancel)?.rows()
                 );
             }
             AnyMethod::Visible(vm) if obstructed::exact_when_unobstructed(vm, &o.vis) => {
-                return self.visible_rows(rows, vm, o, cancel);
+                return self.visible_rows(rows, m, o, cancel);
             }
             AnyMethod::Visible(vm) => {
                 let ctx = self.context()?;
@@ -321,18 +301,46 @@ impl Scene {
         })
     }
 
-    /// Pair rows of a method with visibility that computes unobstructed pairs exactly: the
-    /// unobstructed G of every pair first, by the vectorised rows of an enclosure, then per
-    /// row one shaft query per cluster of receivers (see [`CLUSTER`]); only the pairs of a
-    /// cluster something may block test their own shaft against that query's answer, and only
-    /// pairs with candidates left pay for visibility. The same values as asking
-    /// [`obstructed::pair`] pair by pair, at a fraction of the cost.
-    fn visible_rows(&self, rows: &[usize], vm: VisMethod, o: &AllOptions, cancel: &AtomicBool) -> Result<Vec<PairRow>> {
+    /// The unobstructed G_ij of an exact kernel (`analytic`, `contour`).
+    fn exact_g(&self, i: usize, j: usize, mm: Method, o: &AllOptions) -> Result<f64> {
+        method::area_factor(&self.polygons[i], &self.polygons[j], mm, &o.exact, Some((&self.rules, i, j)))
+    }
+
+    /// Pair rows of a method that computes unobstructed pairs exactly, on a scene where
+    /// something may block: the unobstructed G of every pair first (the vectorised rows of
+    /// an enclosure for the methods with visibility, the method's own kernel for `analytic`
+    /// and `contour`), then per row one shaft query per cluster of receivers (see
+    /// [`CLUSTER`]); only the pairs of a cluster something may block test their own shaft
+    /// against that query's answer, and only pairs with candidates left pay for visibility
+    /// (`analytic` and `contour`: the exact visible region, `clipping` to `vis.tol`). The
+    /// same values as asking [`obstructed::pair_with`] pair by pair, at a fraction of the cost.
+    fn visible_rows(&self, rows: &[usize], m: AnyMethod, o: &AllOptions, cancel: &AtomicBool) -> Result<Vec<PairRow>> {
         let p = &self.polygons;
         let ctx = self.context()?;
         let mut vo = o.vis.clone();
         vo.exact_tol = o.exact.tol;
-        let free = unobstructed_rows::pair_block(p, &self.receiver, &self.rules, rows, &o.exact, cancel)?;
+        let (free, vm) = match m {
+            AnyMethod::Visible(vm) => {
+                (unobstructed_rows::pair_block(p, &self.receiver, &self.rules, rows, &o.exact, cancel)?, vm)
+            }
+            AnyMethod::Exact(mm) => {
+                let skip = |i: usize, j: usize| method::facing(&p[i], &p[j]) == method::Facing::None;
+                let g = upper_pair_rows(p.len(), rows, &self.receiver, cancel, skip, |i, j| {
+                    let g = self.exact_g(i, j, mm, o)?;
+                    Ok((g != 0.0).then_some(g))
+                })?;
+                let g: Vec<PairRow> = g
+                    .into_iter()
+                    .map(|r| PairRow {
+                        cols: r.iter().map(|e| e.0).collect(),
+                        g: r.iter().map(|e| e.1).collect(),
+                        std: None,
+                    })
+                    .collect();
+                (flatten_pair_rows(&g)?, VisMethod::Clipping)
+            }
+            AnyMethod::Row(_) => return Err(Error::InvalidArgument("a row method has no pair rows".into())),
+        };
         let ranks = self.ranks.get_or_init(|| morton_ranks(p));
         rows.par_iter()
             .enumerate()
@@ -361,7 +369,7 @@ impl Scene {
                             let known = obstructed::Known { free: Some(g0[k]), among: Some(among) };
                             let est = work::metered(
                                 o.budget,
-                                || pair_what(AnyMethod::Visible(vm), i, j),
+                                || pair_what(m, i, j),
                                 || obstructed::pair_with(&ctx, i, j, vm, &vo, known),
                             )?;
                             (g[k], std[k]) = (est.value, est.std_err);
@@ -425,18 +433,33 @@ fn pair_what(m: AnyMethod, i: usize, j: usize) -> String {
     format!("method {:?}: pair ({i}, {j})", crate::registry::name_of(m))
 }
 
-/// The unobstructed methods refuse obstacles rather than ignore them.
-fn no_obstacles(m: AnyMethod, n_obs: usize) -> Result<()> {
-    if n_obs > 0 {
-        return Err(Error::InvalidArgument(format!(
-            "method {:?} does not handle obstacles",
-            crate::registry::name_of(m)
-        )));
-    }
-    Ok(())
+/// A scene of `polys` followed by `obstacles`; the first `receivers` polygons get rows and
+/// columns (all of them when None).
+fn scene_of(mut polys: Vec<Polygon>, obstacles: Vec<Polygon>, receivers: Option<usize>) -> Result<Scene> {
+    let k = receivers.unwrap_or(polys.len() + obstacles.len());
+    polys.extend(obstacles);
+    let receiver = (0..polys.len()).map(|q| q < k).collect();
+    Scene::new(polys, receiver)
 }
 
-/// F_ab for a single pair with optional obstacles (opaque from both sides).
+/// F from `source` to `b` (with `obstacles`) by a row method: the source's row on a scene
+/// where only the two receive.
+fn row_entry_of(
+    source: Polygon,
+    b: Polygon,
+    obstacles: Vec<Polygon>,
+    rm: RowMethod,
+    o: &AllOptions,
+) -> Result<Estimate> {
+    let scene = scene_of(vec![source, b], obstacles, Some(2))?;
+    let row = scene.full_rows(&[0], rm, o, &AtomicBool::new(false))?.pop().unwrap_or_default();
+    Ok(row_entry(&row, 1))
+}
+
+/// F_ab for a single pair with optional obstacles (opaque from both sides). `analytic` and
+/// `contour` keep their kernel where nothing may block; where something may, the pair is
+/// the exact visible region integrated over the source (`clipping` to `vis.tol`) from that
+/// kernel's unobstructed G.
 pub fn pair_view_factor(
     a: Polygon,
     b: Polygon,
@@ -446,40 +469,33 @@ pub fn pair_view_factor(
 ) -> Result<Estimate> {
     o.check()?;
     let area = a.area();
-    let n_obs = obstacles.len();
-    match m {
-        AnyMethod::Exact(mm) => {
-            no_obstacles(m, n_obs)?;
-            let g = method::area_factor(&a, &b, mm, &o.exact, None)?;
-            Ok(Estimate { value: clamp_g(g, area, b.area()) / area, std_err: 0.0 })
-        }
-        AnyMethod::Visible(vm) => {
-            let mut polys = vec![a, b];
-            polys.extend(obstacles);
-            let scene = Scene::new(polys, vec![true; 2 + n_obs])?;
-            let mut vo = o.vis.clone();
-            vo.exact_tol = o.exact.tol;
-            let ctx = scene.context()?;
-            let e = work::metered(o.budget, || pair_what(m, 0, 1), || obstructed::pair(&ctx, 0, 1, vm, &vo))?;
-            let area_b = scene.polygons[1].area();
-            Ok(Estimate { value: clamp_g(e.value, area, area_b) / area, std_err: e.std_err / area })
-        }
+    let (vm, free) = match m {
         AnyMethod::Row(rm) => {
-            let mut polys = vec![a, b];
-            polys.extend(obstacles);
-            let mut receiver = vec![false; 2 + n_obs];
-            receiver[0] = true;
-            receiver[1] = true;
-            let scene = Scene::new(polys, receiver)?;
-            let row = scene.full_rows(&[0], rm, o, &AtomicBool::new(false))?.pop().unwrap_or_default();
-            let e = row_entry(&row, 1);
-            Ok(Estimate { value: e.value.clamp(0.0, 1.0), ..e })
+            let e = row_entry_of(a, b, obstacles, rm, o)?;
+            return Ok(Estimate { value: e.value.clamp(0.0, 1.0), ..e });
         }
-    }
+        AnyMethod::Exact(mm) => {
+            let g = method::area_factor(&a, &b, mm, &o.exact, None)?;
+            if obstacles.is_empty() {
+                return Ok(Estimate::exact(clamp_g(g, area, b.area()) / area));
+            }
+            (VisMethod::Clipping, Some(g))
+        }
+        AnyMethod::Visible(vm) => (vm, None),
+    };
+    let scene = scene_of(vec![a, b], obstacles, None)?;
+    let mut vo = o.vis.clone();
+    vo.exact_tol = o.exact.tol;
+    let ctx = scene.context()?;
+    let known = obstructed::Known { free, among: None };
+    let e = work::metered(o.budget, || pair_what(m, 0, 1), || obstructed::pair_with(&ctx, 0, 1, vm, &vo, known))?;
+    let area_b = scene.polygons[1].area();
+    Ok(Estimate { value: clamp_g(e.value, area, area_b) / area, std_err: e.std_err / area })
 }
 
 /// F from a differential area (p, unit n) to polygon b, with optional obstacles; in [0, 1]
-/// (rounding of cancelling sums can leave a method's value just outside).
+/// (rounding of cancelling sums can leave a method's value just outside). `analytic` and
+/// `contour` with obstacles: Lambert's form on the exact visible region (as `clipping`).
 pub fn point_view_factor(
     p: Vec3,
     n: Vec3,
@@ -504,16 +520,13 @@ fn point_estimate(
     if !p.is_finite() || !n.is_finite() || !((n.length() - 1.0).abs() < 1e-6) {
         return Err(Error::InvalidArgument("point and unit normal must be finite".into()));
     }
-    let n_obs = obstacles.len();
     match m {
-        AnyMethod::Exact(mm) => {
-            no_obstacles(m, n_obs)?;
-            Ok(Estimate { value: method::point_factor(p, n, &b, mm, &o.exact)?, std_err: 0.0 })
+        AnyMethod::Exact(mm) if obstacles.is_empty() => {
+            Ok(Estimate::exact(method::point_factor(p, n, &b, mm, &o.exact)?))
         }
-        AnyMethod::Visible(vm) => {
-            let mut polys = vec![b];
-            polys.extend(obstacles);
-            let scene = Scene::new(polys, vec![true; 1 + n_obs])?;
+        AnyMethod::Exact(_) | AnyMethod::Visible(_) => {
+            let vm = if let AnyMethod::Visible(vm) = m { vm } else { VisMethod::Clipping };
+            let scene = scene_of(vec![b], obstacles, None)?;
             let ctx = scene.context()?;
             let what = || format!("method {:?}: the point", crate::registry::name_of(m));
             work::metered(o.budget, what, || obstructed::point(&ctx, p, n, 0, vm, &o.vis))
@@ -529,18 +542,11 @@ fn point_estimate(
                 p + e * (-t - 1.7320508075688772 * s),
             ])
             .map_err(|err| Error::InvalidArgument(format!("point source: {err}")))?;
-            let mut polys = vec![tri, b];
-            polys.extend(obstacles);
-            let mut receiver = vec![false; 2 + n_obs];
-            receiver[0] = true;
-            receiver[1] = true;
             let mut o = o.clone();
             o.hemicube.source = SourcePoints::Centre;
             o.single_plane.source = SourcePoints::Centre;
             o.nusselt.source = SourcePoints::Centre;
-            let scene = Scene::new(polys, receiver)?;
-            let row = scene.full_rows(&[0], rm, &o, &AtomicBool::new(false))?.pop().unwrap_or_default();
-            Ok(row_entry(&row, 1))
+            row_entry_of(tri, b, obstacles, rm, &o)
         }
     }
 }
@@ -613,6 +619,49 @@ mod tests {
                 assert_eq!(k, row.cols.len());
             }
             assert!(pairs > 1000 && hidden > 100, "{m:?}: {pairs} pairs, {hidden} hidden");
+        }
+    }
+
+    #[test]
+    fn exact_kernels_keep_their_values_where_nothing_blocks_and_clip_elsewhere() {
+        // `analytic` and `contour` on a room with a crate: a pair whose shaft holds no
+        // blocker is the kernel's value bit for bit; the others are the exact visible region
+        // from that value, as `clipping` gives it pair by pair.
+        let (polys, _) = room_with_crate(3, 1);
+        let n = polys.len();
+        let scene = Scene::new(polys, vec![true; n]).unwrap();
+        let rows: Vec<usize> = (0..n).collect();
+        let ctx = scene.context().unwrap();
+        let o = AllOptions { vis: VisOptions { tol: 1e-6, ..Default::default() }, ..Default::default() };
+        let tight = VisOptions { tol: 1e-9, exact_tol: 1e-12, ..Default::default() };
+        for mm in [Method::Analytic, Method::Contour] {
+            let out = scene.pair_rows(&rows, AnyMethod::Exact(mm), &o, &AtomicBool::new(false)).unwrap();
+            let (mut free_pairs, mut blocked) = (0, 0);
+            for (&i, row) in rows.iter().zip(&out) {
+                for (j, g, std) in row.iter() {
+                    let j = j as usize;
+                    assert_eq!(std, 0.0);
+                    let free = scene.exact_g(i, j, mm, &o).unwrap();
+                    let mut cand = Vec::new();
+                    let owner = &ctx.occluders.owner;
+                    ctx.vis.candidates_between(
+                        &scene.polygons[i],
+                        &scene.polygons[j],
+                        &[owner[i], owner[j]],
+                        &mut cand,
+                    );
+                    if cand.is_empty() {
+                        assert_eq!(g.to_bits(), free.to_bits(), "{mm:?} pair {i} {j}");
+                        free_pairs += 1;
+                        continue;
+                    }
+                    let want = obstructed::pair(&ctx, i, j, VisMethod::Clipping, &tight).unwrap().value;
+                    assert!((g - want).abs() <= 2e-6 * free, "{mm:?} pair {i} {j}: {g} against {want} (free {free})");
+                    assert!(g <= free, "{mm:?} pair {i} {j}");
+                    blocked += (g < (1.0 - 1e-3) * free) as usize;
+                }
+            }
+            assert!(free_pairs > 500 && blocked > 200, "{mm:?}: {free_pairs} free, {blocked} blocked");
         }
     }
 

@@ -7,8 +7,9 @@
 //! - **the work budget** of one pair (pair methods) or one row (row methods): the number of
 //!   work units it may spend, one unit being one visibility evaluation — a point-to-point
 //!   ray test, a hemicube or single-plane cell, a Nusselt disk cell, a traced ray, a shadow
-//!   evaluation per blocker. A pair or row that needs more fails with [`Error::Budget`]
-//!   instead of running for minutes.
+//!   evaluation per blocker — or one point pair of `quadrature` / `montecarlo` that needs
+//!   no ray test (so every sample counts, an unobstructed pair's too). A pair or row that
+//!   needs more fails with [`Error::Budget`] instead of running for minutes.
 //!
 //! The meter is thread-local: one pair or row is computed on one thread (no nested parallel
 //! loops inside an estimator), so [`begin`] and [`end`] bracket it on that thread. Inner loops

@@ -276,11 +276,8 @@ pub fn point(ctx: &Context, p: Vec3, n: Vec3, j: usize, m: VisMethod, o: &VisOpt
                 let blocked = !visible(y);
                 let w = kernel(p, n, y, b.normal());
                 // control variate: the unblocked integral is exact, sample the blocked part
-                if blocked == o.control_variate {
-                    w
-                } else {
-                    0.0
-                }
+                // every sample's visibility is tested (it pays by its ray)
+                (if blocked == o.control_variate { w } else { 0.0 }, true)
             });
             let est: Vec<f64> = est.iter().map(|&mean| if o.control_variate { lambert - mean } else { mean }).collect();
             mean_and_error(&est)

@@ -116,7 +116,7 @@ pub struct Estimate {
 }
 
 impl Estimate {
-    pub(super) fn exact(value: f64) -> Self {
+    pub fn exact(value: f64) -> Self {
         Estimate { value, std_err: 0.0 }
     }
 }

@@ -46,15 +46,26 @@ pub(super) fn quadrature(
     for ra in &ra {
         for rb in &rb {
             for (x, wx) in ra.points.iter().zip(&ra.weights) {
-                // [methods] stop at cancellation or over budget (the result is discarded)
-                if !crate::work::go_on() {
-                    return g;
-                }
+                // [methods] one work unit per point pair: a pair whose visibility is tested
+                // pays by its ray, the others here (with those of the last x: one call per x);
+                // stop at cancellation or over budget (the result is discarded)
+                let mut untested = 0u64;
                 for (y, wy) in rb.points.iter().zip(&rb.weights) {
                     let k = kernel(*x, a.normal(), *y, b.normal());
-                    if k > 0.0 && pred.is_none_or(|p| p(*x, *y)) {
-                        g += wx * wy * k;
+                    match pred {
+                        Some(p) if k > 0.0 => {
+                            if p(*x, *y) {
+                                g += wx * wy * k;
+                            }
+                        }
+                        _ => {
+                            untested += 1;
+                            g += wx * wy * k;
+                        }
                     }
+                }
+                if !crate::work::spend(untested) {
+                    return g;
                 }
             }
         }
@@ -173,10 +184,9 @@ pub(super) fn montecarlo(
         let x = sa.sample([u[0], u[1]]);
         let y = sb.sample([u[2], u[3]]);
         let kv = kernel(x, a.normal(), y, b.normal());
-        if kv > 0.0 && pred.is_none_or(|p| p(x, y)) {
-            kv
-        } else {
-            0.0
+        match pred {
+            Some(p) if kv > 0.0 => (if p(x, y) { kv } else { 0.0 }, true),
+            _ => (kv.max(0.0), false),
         }
     });
     mean_and_error(&est)
@@ -191,7 +201,7 @@ pub(super) fn rqmc_estimates(
     seed: u64,
     key: [u64; 2],
     strata: &[(f64, usize)],
-    mut term: impl FnMut(usize, [f64; 4]) -> f64,
+    mut term: impl FnMut(usize, [f64; 4]) -> (f64, bool),
 ) -> Vec<f64> {
     let mut est = Vec::with_capacity(RQMC_REPS);
     for r in 0..RQMC_REPS {
@@ -199,13 +209,19 @@ pub(super) fn rqmc_estimates(
         for (s, &(measure, n)) in strata.iter().enumerate() {
             let seed = stratum_seed(seed, [key[0], key[1], r as u64], s, strata.len());
             let mut acc = 0.0;
+            // one work unit per sample: a sample whose visibility is tested pays by its ray,
+            // the others here, 1 024 at a time; stop at cancellation or over budget (the
+            // result is discarded)
+            let mut untested = 0u64;
             for k in 0..n {
-                // [methods] stop at cancellation or over budget (the result is discarded)
-                if k % 1024 == 0 && !crate::work::go_on() {
+                if k % 1024 == 0 && !crate::work::spend(std::mem::take(&mut untested)) {
                     break;
                 }
-                acc += term(s, sobol4(k as u32, seed));
+                let (value, tested) = term(s, sobol4(k as u32, seed));
+                untested += u64::from(!tested);
+                acc += value;
             }
+            crate::work::spend(untested);
             total += measure * acc / n as f64;
         }
         est.push(total);

@@ -63,8 +63,8 @@ impl Scene {
     /// F from each point (unit normal) to every receiver of the scene, as CSR parts (indptr,
     /// receiver polygon ids, F, standard error or None). `obstructed`: every polygon of the
     /// scene blocks (a receiver never blocks its own view); else Lambert's closed form alone.
-    /// Methods: `auto` and `clipping` (exact visible region), the other pair methods with
-    /// visibility (their per-point estimators), `analytic`/`contour` only unobstructed.
+    /// Methods: `auto`, `clipping`, `analytic` and `contour` (Lambert's form on the exact
+    /// visible region), the other pair methods with visibility (their per-point estimators).
     pub fn point_rows(
         &self,
         points: &[Vec3],
@@ -82,12 +82,7 @@ impl Scene {
                     "a row method has no point rows; use a pair method (auto, clipping, ...)".into(),
                 ))
             }
-            AnyMethod::Exact(mm) if obstructed => {
-                return Err(Error::InvalidArgument(format!(
-                    "method {:?} does not handle obstacles: use auto or clipping, or obstructed=False",
-                    format!("{mm:?}").to_lowercase()
-                )))
-            }
+            // Lambert's form on the exact visible region, as `auto` and `clipping`
             AnyMethod::Exact(_) => None,
             AnyMethod::Visible(vm) => Some(vm),
         };
