@@ -117,3 +117,46 @@ def test_cli_refuses_a_run_that_cannot_fit_with_exit_2(tmp_path, monkeypatch, ca
     err = capsys.readouterr().err
     assert "threshold" in err and "float32" in err and "Traceback" not in err
     assert not (tmp_path / "x.npz.partial").exists()
+
+
+def test_assembled_csr_is_the_scipy_matrix_without_scipy_parts():
+    """A pair method's result holds the scipy-free Csr until ``matrix`` is read; its row sums,
+    entry count and dense form are scipy's, and ``matrix`` wraps the same arrays."""
+    from nusselt._sparse import Csr
+
+    scene = _cube(3)
+    res = nusselt.form_factors(scene)
+    held = res._stored_matrix()
+    assert isinstance(held, Csr)
+    f = held.toarray()
+    assert res.closure_error == pytest.approx(float(np.max(np.abs(f.sum(axis=1) - 1))), abs=1e-15)
+    np.testing.assert_allclose(held.row_sums(), f.sum(axis=1), rtol=0, atol=1e-15)
+    m = res.matrix
+    assert sp.issparse(m) and m.has_canonical_format and m.nnz == held.nnz == np.count_nonzero(f)
+    assert np.shares_memory(m.data, held.data) and np.shares_memory(m.indices, held.indices)
+    np.testing.assert_array_equal(m.toarray(), f)
+    assert res._stored_matrix() is m  # from now on the scipy array, and its measures stand
+    assert res.__dict__["_measures_cache"][0] is m
+
+
+def test_a_pair_run_written_to_npz_loads_no_scipy(tmp_path):
+    """``nusselt matrix scene.obj -o out.npz`` of a pair method never imports scipy (0.2 s of
+    CPU, docs/scale.md), and the file holds the matrix form_factors computes."""
+    import subprocess
+    import sys
+
+    from conftest import write_cube_obj
+
+    obj, out = tmp_path / "cube.obj", tmp_path / "cube.npz"
+    write_cube_obj(str(obj), 3)
+    code = (
+        "import sys\nfrom nusselt.cli import main\n"
+        f"assert main(['matrix', {str(obj)!r}, '-o', {str(out)!r}, '-q']) == 0\n"
+        "print(sorted(m for m in sys.modules if m.startswith('scipy')))\n"
+    )
+    run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert run.stdout.strip().splitlines()[-1] == "[]"
+    got = nusselt.io.load_npz(out)
+    want = nusselt.form_factors(nusselt.Scene.from_file(obj))
+    np.testing.assert_array_equal(got["matrix"].toarray(), want.dense())
+    np.testing.assert_array_equal(got["row_sums"], want.row_sums)

@@ -102,7 +102,13 @@ def mirror_pairs(
             npt.NDArray[np.float64] | None,
         ]
     ],
-) -> tuple[npt.NDArray[np.int64], npt.NDArray[np.int32], npt.NDArray[np.float64], npt.NDArray[np.float64] | None]: ...
+    float32: bool,
+) -> tuple[
+    npt.NDArray[np.int64],
+    npt.NDArray[np.int32],
+    npt.NDArray[np.float64] | npt.NDArray[np.float32],
+    npt.NDArray[np.float64] | npt.NDArray[np.float32] | None,
+]: ...
 def pair_reciprocity(
     areas: npt.NDArray[np.float64],
     blocks: list[tuple[npt.NDArray[np.int64], npt.NDArray[np.int64], npt.NDArray[np.int32], npt.NDArray[np.float64]]],

@@ -18,7 +18,6 @@ from __future__ import annotations
 
 import math
 import os
-import shutil
 
 import numpy as np
 
@@ -126,6 +125,8 @@ def check_disk(
     """Raises OSError when the worst-case output (plus its checkpoint) does not fit on disk."""
     d = os.path.dirname(os.path.abspath(path))
     try:
+        import shutil
+
         free = shutil.disk_usage(d).free
     except OSError:
         return

@@ -5,8 +5,9 @@
 //! The caller asks for a block of rows at a time, which keeps memory bounded, lets it report
 //! progress and honour Ctrl-C between blocks, and lets it checkpoint finished blocks.
 
-use crate::error::{try_filled, Error, Result};
+use crate::error::{Error, Result};
 use rayon::prelude::*;
+use std::mem::MaybeUninit;
 use std::sync::atomic::{AtomicBool, Ordering};
 
 /// For every source row i in `rows`, the value of every receiver pair (i, j), j > i, that
@@ -191,9 +192,9 @@ pub fn flatten_pair_rows(rows: &[PairRow]) -> Result<PairBlock> {
     }
     let nnz = *indptr.last().unwrap() as usize;
     let with_std = rows.iter().any(|r| r.std.is_some());
-    let mut cols = try_filled("a block's column indices", nnz, 0i32)?;
-    let mut g = try_filled("a block's entries", nnz, 0.0f64)?;
-    let mut std = if with_std { try_filled("a block's standard errors", nnz, 0.0f64)? } else { Vec::new() };
+    let mut cols = try_slots::<i32>("a block's column indices", nnz)?;
+    let mut g = try_slots::<f64>("a block's entries", nnz)?;
+    let mut std = if with_std { try_slots::<f64>("a block's standard errors", nnz)? } else { Vec::new() };
     let lens = || rows.iter().map(|r| r.len());
     let jobs: Vec<_> = rows
         .iter()
@@ -202,23 +203,85 @@ pub fn flatten_pair_rows(rows: &[PairRow]) -> Result<PairBlock> {
         .zip(split_lengths(&mut std, lens()))
         .collect();
     jobs.into_par_iter().with_min_len(64).for_each(|(((r, c), gg), sd)| {
+        assert_eq!(c.len(), r.cols.len(), "every slot is written");
         for (dst, &j) in c.iter_mut().zip(&r.cols) {
-            *dst = j as i32;
+            dst.write(j as i32);
         }
-        gg.copy_from_slice(&r.g);
-        if let Some(s) = &r.std {
-            sd.copy_from_slice(s);
+        put(gg, &r.g);
+        match &r.std {
+            Some(s) => put(sd, s),
+            None => sd.fill(MaybeUninit::new(0.0)), // empty unless some row has them
         }
     });
+    // SAFETY: each row's piece of every array was written whole just above
+    let (cols, g, std) = unsafe { (assume_written(cols), assume_written(g), assume_written(std)) };
     Ok(PairBlock { indptr, cols, g, std: with_std.then_some(std) })
 }
 
 #[derive(Debug, Clone, PartialEq, Default)]
-pub struct Csr {
+pub struct Csr<V = f64> {
     pub indptr: Vec<i64>,
     /// Column indices: i32 like scipy's default, half the memory of i64 (n < 2^31 always).
     pub indices: Vec<i32>,
-    pub data: Vec<f64>,
+    pub data: Vec<V>,
+}
+
+/// A type F is stored as: f64, or f32 (a third less memory), each entry rounded once from
+/// the f64 quotient G / A, so a float32 result holds the float64 result's values rounded.
+pub trait Stored: Copy + Send + Sync + 'static {
+    fn from_f64(x: f64) -> Self;
+}
+
+impl Stored for f64 {
+    #[inline]
+    fn from_f64(x: f64) -> Self {
+        x
+    }
+}
+
+impl Stored for f32 {
+    #[inline]
+    fn from_f64(x: f64) -> Self {
+        x as f32
+    }
+}
+
+/// A vector of `count` slots that are written before they are read: no zero fill (filling
+/// 377 MB took a serial pass, whose first touches of fresh memory were most of its cost;
+/// the parallel writes touch each page once instead).
+fn try_slots<T>(what: &'static str, count: usize) -> Result<Vec<MaybeUninit<T>>> {
+    let mut v = Vec::new();
+    let bytes = count.saturating_mul(std::mem::size_of::<T>());
+    v.try_reserve_exact(count).map_err(|_| Error::OutOfMemory { what, count, bytes })?;
+    v.resize_with(count, MaybeUninit::uninit);
+    Ok(v)
+}
+
+/// The vector of slots as values.
+///
+/// # Safety
+/// Every slot must have been written.
+unsafe fn assume_written<T>(v: Vec<MaybeUninit<T>>) -> Vec<T> {
+    let mut v = std::mem::ManuallyDrop::new(v);
+    // SAFETY: MaybeUninit<T> has T's size and alignment; every slot holds a T (the caller's promise)
+    unsafe { Vec::from_raw_parts(v.as_mut_ptr().cast::<T>(), v.len(), v.capacity()) }
+}
+
+#[inline]
+fn put<T: Copy>(dst: &mut [MaybeUninit<T>], src: &[T]) {
+    assert_eq!(dst.len(), src.len(), "every slot is written"); // (what assume_written needs)
+    for (d, &v) in dst.iter_mut().zip(src) {
+        d.write(v);
+    }
+}
+
+/// dst = src / a, entry by entry (G over the row's area: F), stored as V.
+#[inline]
+fn put_divided<V: Stored>(dst: &mut [MaybeUninit<V>], src: &[f64], a: f64) {
+    assert_eq!(dst.len(), src.len(), "every slot is written");
+    for (d, &v) in dst.iter_mut().zip(src) {
+        d.write(V::from_f64(v / a));
+    }
 }
 
 /// One row of the upper triangle of the symmetric G = A_i F_ij: source row `row` and its
@@ -231,9 +294,14 @@ pub struct UpperRow<'a> {
 }
 
 /// The full F (and its standard errors when given) from the upper triangle of G: F_ij =
-/// G_ij / A_i and F_ji = G_ij / A_j, in one pass over the entries. Each row is given at most
-/// once, in any order; the result has ascending columns (lower entries, then upper).
-pub fn mirror_upper(areas: &[f64], rows: &[UpperRow<'_>], with_std: bool) -> Result<(Csr, Option<Csr>)> {
+/// G_ij / A_i and F_ji = G_ij / A_j, in one pass over the entries, stored as V (f64 or f32:
+/// the division in f64, then rounded). Each row is given at most once, in any order; the
+/// result has ascending columns (lower entries, then upper).
+pub fn mirror_upper<V: Stored>(
+    areas: &[f64],
+    rows: &[UpperRow<'_>],
+    with_std: bool,
+) -> Result<(Csr<V>, Option<Csr<V>>)> {
     let n = areas.len();
     let bad = |what: String| Err(Error::InvalidArgument(what));
     if n > i32::MAX as usize {
@@ -265,9 +333,9 @@ pub fn mirror_upper(areas: &[f64], rows: &[UpperRow<'_>], with_std: bool) -> Res
         count[i + 1] += lower[i] + count[i];
     }
     let nnz = count[n] as usize;
-    let mut indices = try_filled("the column indices of F", nnz, 0i32)?;
-    let mut data = try_filled("the entries of F", nnz, 0.0f64)?;
-    let mut sdata = if with_std { try_filled("the standard errors of F", nnz, 0.0f64)? } else { Vec::new() };
+    let mut indices = try_slots::<i32>("the column indices of F", nnz)?;
+    let mut data = try_slots::<V>("the entries of F", nnz)?;
+    let mut sdata = if with_std { try_slots::<V>("the standard errors of F", nnz)? } else { Vec::new() };
     // In parallel over ranges of output rows, each owning its slice of the output: rows
     // [lo, hi) get their lower entries (column k < row, from source rows k ascending: the
     // run of k's columns inside [lo, hi), found by bisection) and then their upper entries.
@@ -296,12 +364,12 @@ pub fn mirror_upper(areas: &[f64], rows: &[UpperRow<'_>], with_std: bool) -> Res
             let Some(b) = by_row[k] else { continue };
             let r = &rows[b];
             let (up, m, a) = ((count[k] + lower[k]) as usize - base, r.cols.len(), areas[k]);
-            ind[up..up + m].copy_from_slice(r.cols);
-            divide_into(&mut dat[up..up + m], r.g, a);
+            put(&mut ind[up..up + m], r.cols);
+            put_divided(&mut dat[up..up + m], r.g, a);
             if with_std {
                 match r.std {
-                    Some(s) => divide_into(&mut sd[up..up + m], s, a),
-                    None => sd[up..up + m].fill(0.0),
+                    Some(s) => put_divided(&mut sd[up..up + m], s, a),
+                    None => sd[up..up + m].fill(MaybeUninit::new(V::from_f64(0.0))),
                 }
             }
         }
@@ -347,16 +415,19 @@ pub fn mirror_upper(areas: &[f64], rows: &[UpperRow<'_>], with_std: bool) -> Res
                         continue;
                     }
                     let run = j * TILE..j * TILE + m;
-                    ind[at..at + m].copy_from_slice(&buf_k[run.clone()]);
-                    divide_into(&mut dat[at..at + m], &buf_g[run.clone()], a);
+                    put(&mut ind[at..at + m], &buf_k[run.clone()]);
+                    put_divided(&mut dat[at..at + m], &buf_g[run.clone()], a);
                     if with_std {
-                        divide_into(&mut sd[at..at + m], &buf_s[run], a);
+                        put_divided(&mut sd[at..at + m], &buf_s[run], a);
                     }
                     next[t0 + j - lo] += m;
                 }
             }
         }
     });
+    // SAFETY: the parts cover 0..nnz; in each, every row's upper run and (tile by tile,
+    // `next` advancing over exactly `lower` entries) its lower run were written: every slot
+    let (indices, data, sdata) = unsafe { (assume_written(indices), assume_written(data), assume_written(sdata)) };
     let std = with_std.then(|| Csr { indptr: count.clone(), indices: indices.clone(), data: sdata });
     Ok((Csr { indptr: count, indices, data }, std))
 }
@@ -390,13 +461,6 @@ pub fn upper_reciprocity(areas: &[f64], rows: &[UpperRow<'_>], as_f32: bool) -> 
         w
     };
     Ok(rows.par_iter().map(worst).reduce(|| 0.0, f64::max))
-}
-
-/// dst = src / a, entry by entry (G over the row's area: F).
-fn divide_into(dst: &mut [f64], src: &[f64], a: f64) {
-    for (d, &v) in dst.iter_mut().zip(src) {
-        *d = v / a;
-    }
 }
 
 #[cfg(test)]
@@ -454,7 +518,7 @@ mod tests {
             UpperRow { row: 0, cols: &c0, g: &g0, std: Some(&s0) },
             UpperRow { row: 1, cols: &c1, g: &g1, std: Some(&s1) },
         ];
-        let (f, s) = mirror_upper(&areas, &rows, true).unwrap();
+        let (f, s) = mirror_upper::<f64>(&areas, &rows, true).unwrap();
         let mut dense = [[0.0; 4]; 4];
         for i in 0..4 {
             let (a, b) = (f.indptr[i] as usize, f.indptr[i + 1] as usize);
@@ -474,10 +538,10 @@ mod tests {
         assert_eq!(s.data[0], 0.1 / 1.0); // row 0, column 1
                                           // malformed input is an error, not a panic
         let bad = [UpperRow { row: 1, cols: &[0i32], g: &[1.0], std: None }];
-        assert!(mirror_upper(&areas, &bad, false).is_err());
+        assert!(mirror_upper::<f64>(&areas, &bad, false).is_err());
         let twice =
             [UpperRow { row: 0, cols: &[], g: &[], std: None }, UpperRow { row: 0, cols: &[], g: &[], std: None }];
-        assert!(mirror_upper(&areas, &twice, false).is_err());
+        assert!(mirror_upper::<f64>(&areas, &twice, false).is_err());
     }
 
     #[test]
@@ -530,8 +594,13 @@ mod tests {
         }
         let rows: Vec<UpperRow> =
             data.iter().map(|(i, c, g, sd)| UpperRow { row: *i, cols: c, g, std: Some(sd) }).collect();
-        let (f, sd) = mirror_upper(&areas, &rows, true).unwrap();
+        let (f, sd) = mirror_upper::<f64>(&areas, &rows, true).unwrap();
         let sd = sd.unwrap();
+        // float32: the same pattern, every value the float64 one rounded once
+        let (f32s, sd32) = mirror_upper::<f32>(&areas, &rows, true).unwrap();
+        assert_eq!((&f32s.indptr, &f32s.indices), (&f.indptr, &f.indices));
+        assert!(f32s.data.iter().zip(&f.data).all(|(&x, &y)| x == y as f32));
+        assert!(sd32.unwrap().data.iter().zip(&sd.data).all(|(&x, &y)| x == y as f32));
         let mut want = vec![vec![0.0; n]; n];
         for (i, c, g, _) in &data {
             for (&j, &v) in c.iter().zip(g) {

@@ -14,22 +14,19 @@ type Block<'py> = (
     PyReadonlyArray1<'py, f64>,
     Option<PyReadonlyArray1<'py, f64>>,
 );
-type Out<'py> = (
-    Bound<'py, PyArray1<i64>>,
-    Bound<'py, PyArray1<i32>>,
-    Bound<'py, PyArray1<f64>>,
-    Option<Bound<'py, PyArray1<f64>>>,
-);
+type Out<'py> = (Bound<'py, PyArray1<i64>>, Bound<'py, PyArray1<i32>>, Bound<'py, PyAny>, Option<Bound<'py, PyAny>>);
 
 /// (indptr, indices, F, standard errors of F or None) over receiver indices, from blocks of
 /// (rows, indptr, columns, G, std of G) in scene indices; `col_of` maps scene index to
 /// receiver index (-1: not a receiver). Standard errors are kept only when some are nonzero.
+/// F (and its errors) are float32 when `float32`: written so, never held as float64 too.
 #[pyfunction]
 pub fn mirror_pairs<'py>(
     py: Python<'py>,
     areas: PyReadonlyArray1<'py, f64>,
     col_of: PyReadonlyArray1<'py, i64>,
     blocks: Vec<Block<'py>>,
+    float32: bool,
 ) -> PyResult<Out<'py>> {
     let areas = areas.as_slice()?;
     let col_of = col_of.as_slice()?;
@@ -88,14 +85,27 @@ pub fn mirror_pairs<'py>(
         })
         .collect();
     let pool = crate::threads::pool();
-    let (f, sd) =
-        py.detach(|| guard(|| -> Result<_, Error> { pool.install(|| mirror_upper(areas, &rows, with_std)) }))?;
-    Ok((
-        f.indptr.into_pyarray(py),
-        f.indices.into_pyarray(py),
-        f.data.into_pyarray(py),
-        sd.map(|s| s.data.into_pyarray(py)),
-    ))
+    if float32 {
+        let (f, sd) = py.detach(|| {
+            guard(|| -> Result<_, Error> { pool.install(|| mirror_upper::<f32>(areas, &rows, with_std)) })
+        })?;
+        Ok((
+            f.indptr.into_pyarray(py),
+            f.indices.into_pyarray(py),
+            f.data.into_pyarray(py).into_any(),
+            sd.map(|s| s.data.into_pyarray(py).into_any()),
+        ))
+    } else {
+        let (f, sd) = py.detach(|| {
+            guard(|| -> Result<_, Error> { pool.install(|| mirror_upper::<f64>(areas, &rows, with_std)) })
+        })?;
+        Ok((
+            f.indptr.into_pyarray(py),
+            f.indices.into_pyarray(py),
+            f.data.into_pyarray(py).into_any(),
+            sd.map(|s| s.data.into_pyarray(py).into_any()),
+        ))
+    }
 }
 
 type Upper<'py> =
