@@ -95,8 +95,8 @@ def test_threshold_bounds_the_entries_it_keeps():
 
 
 def test_a_run_that_cannot_fit_is_refused_before_any_work(monkeypatch):
-    scene = _cube(2)
-    monkeypatch.setattr(budget, "available_memory", lambda: 10_000)
+    scene = _cube(2)  # 24 x 20 facing pairs: 480 entries, 9 kB at the peak
+    monkeypatch.setattr(budget, "available_memory", lambda: 5_000)
     calls = []
     with monkeypatch.context() as m:
         m.setattr(assembly, "assemble_pairs", lambda *a, **k: calls.append(1))
@@ -160,3 +160,42 @@ def test_a_pair_run_written_to_npz_loads_no_scipy(tmp_path):
     want = nusselt.form_factors(nusselt.Scene.from_file(obj))
     np.testing.assert_array_equal(got["matrix"].toarray(), want.dense())
     np.testing.assert_array_equal(got["row_sums"], want.row_sums)
+
+
+def _cube_and_plate():
+    """The closed 2 x 2 cube and, below it, a 10 x 10 plate facing away: 124 receivers, but
+    only the cube's 24 x 20 non-coplanar pairs exchange radiation."""
+    from conftest import rect
+
+    polys, _ = cube_faces(2)
+    plate = [rect(x, x + 0.1, y, y + 0.1, z=-1.0, flip=True) for x in np.arange(10) / 10 for y in np.arange(10) / 10]
+    return nusselt.Scene.from_polygons(list(polys) + plate)
+
+
+def test_the_estimated_entries_are_the_facing_pairs():
+    """Every row counted (small scenes): the nonzero count exactly; sampled rows (the
+    384-patch cube): above it by at most the margin."""
+    scene = _cube_and_plate()
+    res = nusselt.form_factors(scene)
+    assert budget.estimated_entries(scene) == res.matrix.nnz == 24 * 20
+    big = _cube(8)
+    nnz = nusselt.form_factors(big).matrix.nnz  # 384 x 320
+    assert nnz <= budget.estimated_entries(big) <= 1.5 * nnz
+
+
+def test_memory_check_accepts_a_run_whose_worst_case_alone_would_not_fit(monkeypatch):
+    """The plate below the cube faces away: its 100 rows are empty. The worst case (every pair
+    seeing each other) does not fit in 50 kB, the expected result does: the run goes ahead;
+    in 5 kB it is refused, with the estimate and the hints in the message."""
+    scene = _cube_and_plate()
+    sizes = {"kind": "pairs", "threshold": 0.0, "dtype": np.float64, "with_std": False}
+    expect = budget.estimated_entries(scene)
+    assert budget.peak_bytes(len(scene), entries=expect, **sizes) < 50_000 < budget.peak_bytes(len(scene), **sizes)
+    monkeypatch.setattr(budget, "available_memory", lambda: 50_000)
+    res = nusselt.form_factors(scene)  # the plate's rows are 0, as they should be
+    assert res.matrix.nnz == expect
+    monkeypatch.setattr(budget, "available_memory", lambda: 5_000)
+    with pytest.raises(MemoryError) as e:
+        nusselt.form_factors(scene)
+    msg = str(e.value)
+    assert "124 receivers" in msg and f"about {expect:,} entries" in msg and "threshold" in msg and "float32" in msg

@@ -223,7 +223,14 @@ def form_factors(
     kind = m.kind
     if check_memory:
         budget.check_memory(
-            nr, kind=kind, threshold=float(threshold), dtype=value_type, with_std="seed" in m.options, dense=dense
+            nr,
+            kind=kind,
+            threshold=float(threshold),
+            dtype=value_type,
+            with_std="seed" in m.options,
+            dense=dense,
+            scene=scene,
+            recv=recv,
         )
     col_of = np.full(len(scene), -1, dtype=np.int64)
     col_of[recv] = np.arange(nr)
