@@ -199,3 +199,18 @@ def test_memory_check_accepts_a_run_whose_worst_case_alone_would_not_fit(monkeyp
         nusselt.form_factors(scene)
     msg = str(e.value)
     assert "124 receivers" in msg and f"about {expect:,} entries" in msg and "threshold" in msg and "float32" in msg
+
+
+@pytest.mark.parametrize("dtype", [np.float64, np.float32])
+def test_mirror_into_mapped_memory_gives_the_same_matrix(monkeypatch, dtype):
+    """The mirror's arrays from populated mappings (big results) hold what np.zeros-backed
+    ones do; float32 is the float64 result rounded once."""
+    scene = _cube(3)
+    plain = nusselt.form_factors(scene, dtype=dtype)
+    monkeypatch.setattr(assembly, "MAPPED_BYTES", 0)
+    mapped = nusselt.form_factors(scene, dtype=dtype)
+    assert not mapped.matrix.data.flags.owndata  # a view of the mapping
+    assert mapped.matrix.dtype == dtype
+    np.testing.assert_array_equal(mapped.dense(), plain.dense())
+    wide = nusselt.form_factors(scene).dense()
+    np.testing.assert_array_equal(mapped.dense(), wide.astype(dtype))

@@ -1,5 +1,6 @@
 """Typed stub of the compiled core (crates/nusselt-py). Private: use the nusselt API."""
 
+from collections.abc import Callable
 from typing import Any, final
 
 import numpy as np
@@ -103,6 +104,7 @@ def mirror_pairs(
         ]
     ],
     float32: bool,
+    alloc: Callable[[int, str], npt.NDArray[Any]],
 ) -> tuple[
     npt.NDArray[np.int64],
     npt.NDArray[np.int32],

@@ -7,7 +7,6 @@
 
 use crate::error::{Error, Result};
 use rayon::prelude::*;
-use std::mem::MaybeUninit;
 use std::sync::atomic::{AtomicBool, Ordering};
 
 /// For every source row i in `rows`, the value of every receiver pair (i, j), j > i, that
@@ -192,9 +191,9 @@ pub fn flatten_pair_rows(rows: &[PairRow]) -> Result<PairBlock> {
     }
     let nnz = *indptr.last().unwrap() as usize;
     let with_std = rows.iter().any(|r| r.std.is_some());
-    let mut cols = try_slots::<i32>("a block's column indices", nnz)?;
-    let mut g = try_slots::<f64>("a block's entries", nnz)?;
-    let mut std = if with_std { try_slots::<f64>("a block's standard errors", nnz)? } else { Vec::new() };
+    let mut cols = try_zeroed::<i32>("a block's column indices", nnz)?;
+    let mut g = try_zeroed::<f64>("a block's entries", nnz)?;
+    let mut std = if with_std { try_zeroed::<f64>("a block's standard errors", nnz)? } else { Vec::new() };
     let lens = || rows.iter().map(|r| r.len());
     let jobs: Vec<_> = rows
         .iter()
@@ -203,18 +202,14 @@ pub fn flatten_pair_rows(rows: &[PairRow]) -> Result<PairBlock> {
         .zip(split_lengths(&mut std, lens()))
         .collect();
     jobs.into_par_iter().with_min_len(64).for_each(|(((r, c), gg), sd)| {
-        assert_eq!(c.len(), r.cols.len(), "every slot is written");
         for (dst, &j) in c.iter_mut().zip(&r.cols) {
-            dst.write(j as i32);
+            *dst = j as i32;
         }
-        put(gg, &r.g);
-        match &r.std {
-            Some(s) => put(sd, s),
-            None => sd.fill(MaybeUninit::new(0.0)), // empty unless some row has them
+        gg.copy_from_slice(&r.g);
+        if let Some(s) = &r.std {
+            sd.copy_from_slice(s);
         }
     });
-    // SAFETY: each row's piece of every array was written whole just above
-    let (cols, g, std) = unsafe { (assume_written(cols), assume_written(g), assume_written(std)) };
     Ok(PairBlock { indptr, cols, g, std: with_std.then_some(std) })
 }
 
@@ -246,41 +241,39 @@ impl Stored for f32 {
     }
 }
 
-/// A vector of `count` slots that are written before they are read: no zero fill (filling
-/// 377 MB took a serial pass, whose first touches of fresh memory were most of its cost;
-/// the parallel writes touch each page once instead).
-fn try_slots<T>(what: &'static str, count: usize) -> Result<Vec<MaybeUninit<T>>> {
-    let mut v = Vec::new();
+/// Number types whose all-zero bytes are the value 0.
+pub trait Zeroed: Copy {}
+impl Zeroed for i32 {}
+impl Zeroed for f32 {}
+impl Zeroed for f64 {}
+
+/// `count` zeros, or an error when the memory cannot be had. The zeros come from the
+/// allocator's zeroed memory (fresh pages of a big allocation are zero already: no serial
+/// fill, whose first touches of 377 MB were most of the cost; the parallel writes then
+/// touch each page once).
+pub fn try_zeroed<T: Zeroed>(what: &'static str, count: usize) -> Result<Vec<T>> {
     let bytes = count.saturating_mul(std::mem::size_of::<T>());
-    v.try_reserve_exact(count).map_err(|_| Error::OutOfMemory { what, count, bytes })?;
-    v.resize_with(count, MaybeUninit::uninit);
-    Ok(v)
-}
-
-/// The vector of slots as values.
-///
-/// # Safety
-/// Every slot must have been written.
-unsafe fn assume_written<T>(v: Vec<MaybeUninit<T>>) -> Vec<T> {
-    let mut v = std::mem::ManuallyDrop::new(v);
-    // SAFETY: MaybeUninit<T> has T's size and alignment; every slot holds a T (the caller's promise)
-    unsafe { Vec::from_raw_parts(v.as_mut_ptr().cast::<T>(), v.len(), v.capacity()) }
-}
-
-#[inline]
-fn put<T: Copy>(dst: &mut [MaybeUninit<T>], src: &[T]) {
-    assert_eq!(dst.len(), src.len(), "every slot is written"); // (what assume_written needs)
-    for (d, &v) in dst.iter_mut().zip(src) {
-        d.write(v);
+    let oom = || Error::OutOfMemory { what, count, bytes };
+    if count == 0 || std::mem::size_of::<T>() == 0 {
+        return Ok(Vec::new());
+    }
+    let layout = std::alloc::Layout::array::<T>(count).map_err(|_| oom())?;
+    // SAFETY: the layout has a nonzero size; a non-null pointer is `count` zeroed, aligned
+    // slots of T, for which zero bytes are a valid value (Zeroed), owned by the Vec from here
+    unsafe {
+        let ptr = std::alloc::alloc_zeroed(layout).cast::<T>();
+        if ptr.is_null() {
+            return Err(oom());
+        }
+        Ok(Vec::from_raw_parts(ptr, count, count))
     }
 }
 
 /// dst = src / a, entry by entry (G over the row's area: F), stored as V.
 #[inline]
-fn put_divided<V: Stored>(dst: &mut [MaybeUninit<V>], src: &[f64], a: f64) {
-    assert_eq!(dst.len(), src.len(), "every slot is written");
+fn put_divided<V: Stored>(dst: &mut [V], src: &[f64], a: f64) {
     for (d, &v) in dst.iter_mut().zip(src) {
-        d.write(V::from_f64(v / a));
+        *d = V::from_f64(v / a);
     }
 }
 
@@ -293,16 +286,29 @@ pub struct UpperRow<'a> {
     pub std: Option<&'a [f64]>,
 }
 
-/// The full F (and its standard errors when given) from the upper triangle of G: F_ij =
-/// G_ij / A_i and F_ji = G_ij / A_j, in one pass over the entries, stored as V (f64 or f32:
-/// the division in f64, then rounded). Each row is given at most once, in any order; the
-/// result has ascending columns (lower entries, then upper).
-pub fn mirror_upper<V: Stored>(
-    areas: &[f64],
-    rows: &[UpperRow<'_>],
-    with_std: bool,
-) -> Result<(Csr<V>, Option<Csr<V>>)> {
-    let n = areas.len();
+/// Where the entries of F go: for each output row, where it starts (`count`, with the total
+/// last) and how many entries come from rows above it (`lower`, the transposed ones).
+pub struct MirrorLayout {
+    by_row: Vec<Option<usize>>,
+    count: Vec<i64>,
+    lower: Vec<i64>,
+}
+
+impl MirrorLayout {
+    /// The entries of F (both triangles).
+    pub fn nnz(&self) -> usize {
+        *self.count.last().unwrap_or(&0) as usize
+    }
+
+    /// Row starts of F (CSR indptr).
+    pub fn indptr(&self) -> &[i64] {
+        &self.count
+    }
+}
+
+/// The layout of the F that [`mirror_into`] builds from these upper rows over `n` rows;
+/// checks the rows (each at most once, columns ascending above the diagonal and < n).
+pub fn mirror_layout(n: usize, rows: &[UpperRow<'_>]) -> Result<MirrorLayout> {
     let bad = |what: String| Err(Error::InvalidArgument(what));
     if n > i32::MAX as usize {
         return bad(format!("{n} rows: more than a CSR with i32 indices holds"));
@@ -332,10 +338,46 @@ pub fn mirror_upper<V: Stored>(
     for i in 0..n {
         count[i + 1] += lower[i] + count[i];
     }
-    let nnz = count[n] as usize;
-    let mut indices = try_slots::<i32>("the column indices of F", nnz)?;
-    let mut data = try_slots::<V>("the entries of F", nnz)?;
-    let mut sdata = if with_std { try_slots::<V>("the standard errors of F", nnz)? } else { Vec::new() };
+    Ok(MirrorLayout { by_row, count, lower })
+}
+
+/// The full F (and its standard errors when given) from the upper triangle of G: F_ij =
+/// G_ij / A_i and F_ji = G_ij / A_j, in one pass over the entries, stored as V (f64 or f32:
+/// the division in f64, then rounded). Each row is given at most once, in any order; the
+/// result has ascending columns (lower entries, then upper).
+pub fn mirror_upper<V: Stored + Zeroed>(
+    areas: &[f64],
+    rows: &[UpperRow<'_>],
+    with_std: bool,
+) -> Result<(Csr<V>, Option<Csr<V>>)> {
+    let layout = mirror_layout(areas.len(), rows)?;
+    let nnz = layout.nnz();
+    let mut indices = try_zeroed::<i32>("the column indices of F", nnz)?;
+    let mut data = try_zeroed::<V>("the entries of F", nnz)?;
+    let mut sdata = if with_std { try_zeroed::<V>("the standard errors of F", nnz)? } else { Vec::new() };
+    mirror_into(areas, rows, &layout, &mut indices, &mut data, &mut sdata)?;
+    let count = layout.count;
+    let std = with_std.then(|| Csr { indptr: count.clone(), indices: indices.clone(), data: sdata });
+    Ok((Csr { indptr: count, indices, data }, std))
+}
+
+/// [`mirror_upper`] into arrays the caller provides (`layout.nnz()` long; `sdata` empty
+/// for no standard errors), e.g. memory of the caller's choosing.
+pub fn mirror_into<V: Stored>(
+    areas: &[f64],
+    rows: &[UpperRow<'_>],
+    layout: &MirrorLayout,
+    indices: &mut [i32],
+    data: &mut [V],
+    sdata: &mut [V],
+) -> Result<()> {
+    let n = areas.len();
+    let nnz = layout.nnz();
+    let with_std = !sdata.is_empty();
+    if layout.by_row.len() != n || indices.len() != nnz || data.len() != nnz || (with_std && sdata.len() != nnz) {
+        return Err(Error::InvalidArgument(format!("mirror: arrays of {nnz} entries over {n} rows expected")));
+    }
+    let (by_row, count, lower) = (&layout.by_row, &layout.count, &layout.lower);
     // In parallel over ranges of output rows, each owning its slice of the output: rows
     // [lo, hi) get their lower entries (column k < row, from source rows k ascending: the
     // run of k's columns inside [lo, hi), found by bisection) and then their upper entries.
@@ -352,9 +394,9 @@ pub fn mirror_upper<V: Stored>(
     let lens = || bounds.windows(2).map(|w| (count[w[1]] - count[w[0]]) as usize);
     let jobs: Vec<_> = bounds
         .windows(2)
-        .zip(split_lengths(&mut indices, lens()))
-        .zip(split_lengths(&mut data, lens()))
-        .zip(split_lengths(&mut sdata, lens()))
+        .zip(split_lengths(indices, lens()))
+        .zip(split_lengths(data, lens()))
+        .zip(split_lengths(sdata, lens()))
         .map(|(((w, ind), dat), sd)| (w[0], w[1], ind, dat, sd))
         .collect();
     jobs.into_par_iter().for_each(|(lo, hi, ind, dat, sd)| {
@@ -364,12 +406,12 @@ pub fn mirror_upper<V: Stored>(
             let Some(b) = by_row[k] else { continue };
             let r = &rows[b];
             let (up, m, a) = ((count[k] + lower[k]) as usize - base, r.cols.len(), areas[k]);
-            put(&mut ind[up..up + m], r.cols);
+            ind[up..up + m].copy_from_slice(r.cols);
             put_divided(&mut dat[up..up + m], r.g, a);
             if with_std {
                 match r.std {
                     Some(s) => put_divided(&mut sd[up..up + m], s, a),
-                    None => sd[up..up + m].fill(MaybeUninit::new(V::from_f64(0.0))),
+                    None => sd[up..up + m].fill(V::from_f64(0.0)),
                 }
             }
         }
@@ -415,7 +457,7 @@ pub fn mirror_upper<V: Stored>(
                         continue;
                     }
                     let run = j * TILE..j * TILE + m;
-                    put(&mut ind[at..at + m], &buf_k[run.clone()]);
+                    ind[at..at + m].copy_from_slice(&buf_k[run.clone()]);
                     put_divided(&mut dat[at..at + m], &buf_g[run.clone()], a);
                     if with_std {
                         put_divided(&mut sd[at..at + m], &buf_s[run], a);
@@ -425,11 +467,7 @@ pub fn mirror_upper<V: Stored>(
             }
         }
     });
-    // SAFETY: the parts cover 0..nnz; in each, every row's upper run and (tile by tile,
-    // `next` advancing over exactly `lower` entries) its lower run were written: every slot
-    let (indices, data, sdata) = unsafe { (assume_written(indices), assume_written(data), assume_written(sdata)) };
-    let std = with_std.then(|| Csr { indptr: count.clone(), indices: indices.clone(), data: sdata });
-    Ok((Csr { indptr: count, indices, data }, std))
+    Ok(())
 }
 
 /// The reciprocity error max |A_i F_ij - A_j F_ji| / max(|A_i F_ij|, |A_j F_ji|) of the F
