@@ -119,7 +119,9 @@ def child(spec: dict) -> dict:
         scene = nusselt.Scene.from_polygons(polys)
         m, full = resolve(method, opts)
         try:
-            budget.check_memory(n, kind=m.kind, threshold=0.0, dtype=np.float64, with_std="seed" in m.options)
+            budget.check_memory(
+                n, kind=m.kind, threshold=0.0, dtype=np.float64, with_std="seed" in m.options, scene=scene
+            )
             out["memory_check"] = "fits"
         except MemoryError as e:
             out["memory_check"] = "refused: " + str(e).split(":")[0]

@@ -190,7 +190,7 @@ def test_matrix_npz_stores_trust_measures_and_threshold(tmp_path, capsys):
     small = (g < 0.02) & (g.T < 0.02)
     assert np.array_equal(kept, (g != 0) & ~small)
     assert info["dropped"] == pytest.approx(np.max((g * small).sum(axis=1)))
-    assert "memory: at most" in capsys.readouterr().err
+    assert "memory: about" in capsys.readouterr().err
 
 
 def test_correct_option_fixes_sampled_rows_and_refuses_open_scenes(tmp_path, capsys):

@@ -107,7 +107,7 @@ def test_result_assembly_rejects_malformed_blocks():
     i64 = lambda *v: np.array(v, dtype=np.int64)
     i32 = lambda *v: np.array(v, dtype=np.int32)
     good = (i64(0), i64(0, 2), i32(1, 2), np.array([0.2, 0.3]), None)
-    indptr, idx, f, sd = _core.mirror_pairs(areas, col_of, [good])
+    indptr, idx, f, sd = _core.mirror_pairs(areas, col_of, [good], False, np.zeros)
     assert sd is None
     dense = np.zeros((3, 3))
     for r in range(3):
@@ -122,6 +122,11 @@ def test_result_assembly_rejects_malformed_blocks():
     ]
     for block in bad:
         with pytest.raises(ValueError):
-            _core.mirror_pairs(areas, col_of, [block])
+            _core.mirror_pairs(areas, col_of, [block], False, np.zeros)
     with pytest.raises(ValueError, match="twice"):
-        _core.mirror_pairs(areas, col_of, [good, good])
+        _core.mirror_pairs(areas, col_of, [good, good], False, np.zeros)
+    # arrays from the caller's alloc that do not fit are refused before any write
+    with pytest.raises(ValueError, match="wrong length"):
+        _core.mirror_pairs(areas, col_of, [good], False, lambda n, t: np.zeros(n + 1, dtype=t))
+    with pytest.raises(TypeError, match="int32 array"):
+        _core.mirror_pairs(areas, col_of, [good], False, lambda n, t: np.zeros(n))

@@ -129,3 +129,24 @@ def test_an_absurdly_long_line_is_refused_without_reading_it_whole(tmp_path, nam
     r = _run_limited(code, str(path))
     assert r.returncode == 3, (r.returncode, r.stderr[-2000:])
     assert f"{name}, line {line}: longer than 16 MiB" in r.stdout, r.stdout
+
+
+@pytest.mark.slow
+def test_a_100_000_patch_scene_is_refused_up_front_with_the_numbers(monkeypatch):
+    """Issue 21's 1e5-patch criterion: the closed cube of 99 846 patches faces 83 % of its pairs
+    (167 GiB at the peak): refused before any block is computed, with the estimate, the
+    threshold and float32 hints (given 64 GiB: any machine of this size refuses it too)."""
+    from conftest import cube_faces
+
+    import nusselt
+    from nusselt import blocks, budget
+
+    polys, _ = cube_faces(129)
+    scene = nusselt.Scene.from_polygons(polys)
+    monkeypatch.setattr(budget, "available_memory", lambda: 64 << 30)
+    monkeypatch.setattr(blocks, "run_blocks", lambda *a, **k: pytest.fail("computed"))
+    with pytest.raises(MemoryError) as e:
+        nusselt.form_factors(scene)
+    msg = str(e.value)
+    assert "99846 receivers" in msg and "expected to hold" in msg and "GiB" in msg
+    assert "threshold" in msg and "float32" in msg

@@ -15,7 +15,7 @@ try:
     from ._core import __version__
     from .api import form_factors, point_view_factor, view_factor
     from .checks import ZeroRowWarning
-    from .io import load_npz, read_scene
+    from .io import read_scene
     from .methods import METHODS, MethodName
     from .result import FormFactors
     from .scene import NusseltWarning, OrientationWarning, RepairWarning, Scene
@@ -30,6 +30,7 @@ except KeyboardInterrupt:
 
 if TYPE_CHECKING:
     from . import exchange, radiosity, sensors, sky
+    from .io import load_npz
     from .sensors import point_view_factors
 
 # Imported on first use: they pull in scipy.sparse.linalg and scipy.linalg, most of the
@@ -44,6 +45,8 @@ def __getattr__(name: str) -> Any:
         return importlib.import_module(f".{name}", __name__)
     if name == "point_view_factors":
         return importlib.import_module(".sensors", __name__).point_view_factors
+    if name == "load_npz":  # the writers load when first used (nusselt.io)
+        return io.load_npz
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 

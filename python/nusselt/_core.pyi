@@ -1,5 +1,6 @@
 """Typed stub of the compiled core (crates/nusselt-py). Private: use the nusselt API."""
 
+from collections.abc import Callable
 from typing import Any, final
 
 import numpy as np
@@ -103,7 +104,14 @@ def mirror_pairs(
             npt.NDArray[np.float64] | None,
         ]
     ],
-) -> tuple[npt.NDArray[np.int64], npt.NDArray[np.int32], npt.NDArray[np.float64], npt.NDArray[np.float64] | None]: ...
+    float32: bool,
+    alloc: Callable[[int, str], npt.NDArray[Any]],
+) -> tuple[
+    npt.NDArray[np.int64],
+    npt.NDArray[np.int32],
+    npt.NDArray[np.float64] | npt.NDArray[np.float32],
+    npt.NDArray[np.float64] | npt.NDArray[np.float32] | None,
+]: ...
 def pair_reciprocity(
     areas: npt.NDArray[np.float64],
     blocks: list[tuple[npt.NDArray[np.int64], npt.NDArray[np.int64], npt.NDArray[np.int32], npt.NDArray[np.float64]]],

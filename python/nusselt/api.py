@@ -4,14 +4,12 @@ from __future__ import annotations
 
 import functools
 import os
-import tempfile
 from collections.abc import Callable
 from typing import Any, Literal, overload
 
 import numpy as np
 
 from . import _core, assembly, blocks, budget, ranges
-from . import checkpoint as _checkpoint
 from .checks import warn_zero_rows
 from .methods import MethodName, resolve
 from .result import FormFactors
@@ -225,13 +223,22 @@ def form_factors(
     kind = m.kind
     if check_memory:
         budget.check_memory(
-            nr, kind=kind, threshold=float(threshold), dtype=value_type, with_std="seed" in m.options, dense=dense
+            nr,
+            kind=kind,
+            threshold=float(threshold),
+            dtype=value_type,
+            with_std="seed" in m.options,
+            dense=dense,
+            scene=scene,
+            recv=recv,
         )
     col_of = np.full(len(scene), -1, dtype=np.int64)
     col_of[recv] = np.arange(nr)
 
     if not (isinstance(checkpoint_after, (int, float)) and checkpoint_after >= 0.0):
         raise ValueError(f"checkpoint_after must be a number of seconds >= 0, got {checkpoint_after!r}")
+    from . import checkpoint as _checkpoint  # hashlib, json, shutil: loaded by a run only
+
     run = _checkpoint.describe_run(scene, method, opts, kind)
     ckpt: _checkpoint.Checkpoint | None = None
     write_after: float | None = None
@@ -246,6 +253,8 @@ def form_factors(
 
         def later() -> _checkpoint.Checkpoint:
             # Ctrl-C without a checkpoint: the finished blocks go to a fresh one (named in the message)
+            import tempfile
+
             return _checkpoint.Checkpoint(tempfile.mkdtemp(prefix="nusselt-interrupted-"), run, resume=False)
 
     # pair blocks lose their below-threshold pairs as they arrive (stored whole in the checkpoint)

@@ -6,7 +6,7 @@ import warnings
 
 import numpy as np
 
-from ._sparse import issparse
+from ._sparse import Csr, issparse
 from .scene import NusseltWarning, Scene
 
 
@@ -43,17 +43,24 @@ def facing_partner(scene: Scene, rows: np.ndarray, cols: np.ndarray, backs: bool
 def warn_zero_rows(scene: Scene, matrix, faces: np.ndarray, *, stacklevel: int = 3) -> None:
     """Warn (:class:`ZeroRowWarning`) when rows of ``matrix`` (rows = ``faces`` of the
     scene) are 0 while another receiver lies in front of them, or the whole result is 0."""
-    import scipy.sparse as sp
-
-    m = matrix if issparse(matrix) else sp.csr_array(np.asarray(matrix))
-    nr = m.shape[0]
+    nr = matrix.shape[0]
     if nr < 2:
         return
     # the plain row sums need no copy of the entries (abs(m) would copy them all: 210 MB on
     # a 6 144-patch cube); a sum of 0 from entries of both signs is told apart on those rows
-    zero = np.flatnonzero(np.asarray(m.sum(axis=1)).ravel() == 0)
-    if len(zero):
-        zero = zero[np.asarray(abs(sp.csr_array(m[zero])).sum(axis=1)).ravel() == 0]
+    if isinstance(matrix, Csr):  # the assembly's matrix: no scipy needed
+        nnz = matrix.nnz
+        zero = np.flatnonzero(matrix.row_sums() == 0)
+        if len(zero):
+            zero = zero[matrix.abs_row_sums(zero) == 0]
+    else:
+        import scipy.sparse as sp
+
+        m = matrix if issparse(matrix) else sp.csr_array(np.asarray(matrix))
+        nnz = m.nnz
+        zero = np.flatnonzero(np.asarray(m.sum(axis=1)).ravel() == 0)
+        if len(zero):
+            zero = zero[np.asarray(abs(sp.csr_array(m[zero])).sum(axis=1)).ravel() == 0]
     if not len(zero):
         return
     checked = zero
@@ -68,14 +75,14 @@ def warn_zero_rows(scene: Scene, matrix, faces: np.ndarray, *, stacklevel: int =
     seen = np.zeros(int(surface.max()) + 1, dtype=bool)
     seen[surface[np.setdiff1d(np.arange(nr), zero, assume_unique=True)]] = True
     bad = bad[~seen[surface[bad]]]
-    backs = m.nnz == 0 and not len(bad)
+    backs = nnz == 0 and not len(bad)
     if backs:
         bad = checked[facing_partner(scene, faces[checked], faces, backs=True)]
     if not len(bad):
         return
     first = scene._face_label(int(faces[bad[0]]))
     sampled = f" (of {len(checked)} zero rows checked)" if len(checked) < len(zero) else ""
-    if m.nnz == 0:
+    if nnz == 0:
         how = "behind" if backs else "in front of"
         msg = (
             f"the whole result is 0, although faces lie {how} each other ({first} and others): "

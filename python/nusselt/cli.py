@@ -173,15 +173,17 @@ def cmd_matrix(args) -> int:
         "dtype": dtype,
         "with_std": "seed" in method_info.options,
     }
-    need, avail = budget.peak_bytes(n, **sizes), budget.available_memory()
+    most, avail = budget.peak_bytes(n, **sizes), budget.available_memory()
+    expect = budget.estimated_entries(scene, scene.receivers)
     print(
         f"{args.scene}: {len(scene)} polygons, {n} with rows, {len(scene.surface_names)} surfaces; "
         f"method {args.method}",
         file=sys.stderr,
     )
     print(
-        f"memory: at most {_gib(need)} for the sparse result (if every pair exchanged radiation)"
-        + (f", {_gib(avail)} available" if avail else ""),
+        f"memory: about {_gib(budget.peak_bytes(n, entries=expect, **sizes))} for the sparse result "
+        f"(~{expect:,} entries: the facing pairs of sampled rows; at most {_gib(most)} if every pair "
+        "exchanged radiation)" + (f", {_gib(avail)} available" if avail else ""),
         file=sys.stderr,
     )
     budget.check_disk(args.output, n, **sizes)  # refused before any work; memory: by form_factors

@@ -8,7 +8,7 @@ from typing import Any
 import numpy as np
 
 from . import trust as _trust
-from ._sparse import issparse
+from ._sparse import Csr, issparse
 
 # A scipy.sparse array or a dense ndarray. scipy ships no type stubs, so the sparse side is
 # Any to mypy and the union collapses to Any; the name documents what the value is.
@@ -56,27 +56,35 @@ class FormFactors:
         return len(self.areas)
 
     def dense(self) -> np.ndarray:
-        m = self.matrix
-        return m.toarray() if issparse(m) else np.asarray(m)
+        m = self._stored_matrix()
+        return m.toarray() if issparse(m) or isinstance(m, Csr) else np.asarray(m)
+
+    def _stored_matrix(self) -> MatrixLike:
+        """The matrix as held: what ``matrix`` gives, or, while nothing asked for ``matrix``
+        yet, the scipy-free :class:`nusselt._sparse.Csr` the assembly built (its ``data``,
+        ``indices``, ``indptr``, ``shape``, ``nnz`` are those of the scipy array), so that a
+        run that only writes its result never loads scipy."""
+        return self.__dict__["_matrix"]
 
     def _measures(self) -> dict:
         """Closure, reciprocity and row-sum measures, computed once per matrix object
         (:mod:`nusselt.trust`: one pass, no dense or transposed copy of the matrix)."""
+        m = self._stored_matrix()
         cached = self.__dict__.get("_measures_cache")
-        out = cached[1] if cached is not None and cached[0] is self.matrix else {}
+        out = cached[1] if cached is not None and cached[0] is m else {}
         if "row_sums" not in out:
-            rs = _trust.row_sums(self.matrix)
+            rs = _trust.row_sums(m)
             out["row_sums"] = rs
             out["closure_error"] = float(np.max(np.abs(rs - 1.0))) if len(rs) else 0.0
         if "reciprocity_error" not in out:
             out["reciprocity_error"] = _trust.reciprocity_error(self.matrix, self.areas)
-        self.__dict__["_measures_cache"] = (self.matrix, out)
+        self.__dict__["_measures_cache"] = (self._stored_matrix(), out)
         return out
 
     def _seed_measures(self, **known: float) -> None:
         """Measures the assembly already knows for this matrix (e.g. the reciprocity error of a
         pair method, from its blocks), so they are not recomputed from the matrix."""
-        self.__dict__["_measures_cache"] = (self.matrix, dict(known))
+        self.__dict__["_measures_cache"] = (self._stored_matrix(), dict(known))
 
     @property
     def row_sums(self) -> np.ndarray:
@@ -150,7 +158,7 @@ class FormFactors:
         """A readable table (small results) or summary statistics (large ones)."""
         rs = self.row_sums
         lines = [
-            f"{len(self)} x {len(self)} form factors, method {self.method!r}, {_nnz(self.matrix)} nonzero",
+            f"{len(self)} x {len(self)} form factors, method {self.method!r}, {_nnz(self._stored_matrix())} nonzero",
             f"max |row sum - 1| = {self.closure_error:.3e}   reciprocity error = {self.reciprocity_error:.3e}"
             + (f"   row sums {rs.min():.6f} .. {rs.max():.6f}" if len(rs) else ""),
         ]
@@ -173,8 +181,28 @@ class FormFactors:
         return "\n".join(lines)
 
 
+def _get_matrix(self: FormFactors) -> MatrixLike:
+    m = self.__dict__["_matrix"]
+    if isinstance(m, Csr):  # asked for: the scipy array over the same arrays, from now on
+        csr, m = m, m.to_scipy()
+        self.__dict__["_matrix"] = m
+        cached = self.__dict__.get("_measures_cache")
+        if cached is not None and cached[0] is csr:  # the same matrix: its measures stand
+            self.__dict__["_measures_cache"] = (m, cached[1])
+    return m
+
+
+def _set_matrix(self: FormFactors, m: MatrixLike) -> None:
+    self.__dict__["_matrix"] = m
+
+
+# ``matrix`` is a dataclass field read through this property: a Csr from the assembly becomes
+# a scipy array the first time it is read (see FormFactors.stored_matrix).
+FormFactors.matrix = property(_get_matrix, _set_matrix)
+
+
 def _nnz(m) -> int:
-    return int(m.nnz) if issparse(m) else int(np.count_nonzero(m))
+    return int(m.nnz) if issparse(m) or isinstance(m, Csr) else int(np.count_nonzero(m))
 
 
 def _as_sparse(m):

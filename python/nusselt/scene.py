@@ -13,7 +13,7 @@ import numpy as np
 
 from . import _core, ranges
 from .io.scenedata import NusseltWarning, first_bad_face
-from .io.topology import ORIENTS, orient_faces
+from .io.topology import ORIENTS, orient_faces, sorted_unique
 from .overlaps import coplanar_overlaps
 
 #: Default relative planarity tolerance (fraction of a polygon's size).
@@ -333,7 +333,7 @@ class Scene:
                     f"and overlap ({ov / min(areas[i], areas[j]):.3g} of the smaller one): each would be counted, "
                     f"so rows would sum to more than 1 ({len(pairs)} such pairs){hint}"
                 )
-            drop = np.unique(covered)
+            drop = sorted_unique(np.asarray(covered, dtype=np.int64))
             back = kept if not keep.all() else np.arange(nf)
             dropped["duplicate"] = back[drop].tolist()
             stay = np.setdiff1d(np.arange(len(face_list)), drop)

@@ -15,7 +15,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ._sparse import issparse
+from ._sparse import Csr, issparse
 
 if TYPE_CHECKING:
     import scipy.sparse as sp
@@ -25,6 +25,8 @@ BAND_ENTRIES = 1 << 23
 
 
 def row_sums(matrix) -> np.ndarray:
+    if isinstance(matrix, Csr):
+        return matrix.row_sums()
     return np.asarray(matrix.sum(axis=1), dtype=np.float64).ravel()
 
 
@@ -41,7 +43,7 @@ def reciprocity_error(matrix, areas: np.ndarray) -> float:
         den = np.maximum(np.abs(g), np.abs(g.T))
         ok = den > 0
         return float(np.max(np.abs(g - g.T)[ok] / den[ok])) if ok.any() else 0.0
-    m = sp.csr_array(matrix)
+    m = sp.csr_array(matrix.to_scipy() if isinstance(matrix, Csr) else matrix)
     if not m.has_sorted_indices:
         m = m.copy()
         m.sort_indices()

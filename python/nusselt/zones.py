@@ -14,7 +14,6 @@ from __future__ import annotations
 import os
 
 import numpy as np
-import scipy.sparse as sp
 
 from .result import FormFactors
 from .scene import Scene
@@ -77,6 +76,8 @@ def zone_form_factors(scene: Scene, *, zones: list[str] | None = None, checkpoin
     scene order; ``faces``, ``surface`` and ``surface_names`` refer to the whole scene, so
     ``by_surface()`` gives the per-surface matrix of those zones.
     """
+    import scipy.sparse as sp
+
     from .api import form_factors
 
     by_zone = zone_faces(scene)

@@ -57,7 +57,7 @@ fn main() {
         let mut times = Vec::new();
         for _ in 0..4 {
             let t = Instant::now();
-            let (f, _) = mirror_upper(&areas, &upper, false).unwrap();
+            let (f, _) = mirror_upper::<f64>(&areas, &upper, false).unwrap();
             times.push(t.elapsed().as_secs_f64());
             assert_eq!(f.data.len(), 2 * b.g.len());
         }

@@ -5,7 +5,7 @@
 //! The caller asks for a block of rows at a time, which keeps memory bounded, lets it report
 //! progress and honour Ctrl-C between blocks, and lets it checkpoint finished blocks.
 
-use crate::error::{try_filled, Error, Result};
+use crate::error::{Error, Result};
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicBool, Ordering};
 
@@ -191,9 +191,9 @@ pub fn flatten_pair_rows(rows: &[PairRow]) -> Result<PairBlock> {
     }
     let nnz = *indptr.last().unwrap() as usize;
     let with_std = rows.iter().any(|r| r.std.is_some());
-    let mut cols = try_filled("a block's column indices", nnz, 0i32)?;
-    let mut g = try_filled("a block's entries", nnz, 0.0f64)?;
-    let mut std = if with_std { try_filled("a block's standard errors", nnz, 0.0f64)? } else { Vec::new() };
+    let mut cols = try_zeroed::<i32>("a block's column indices", nnz)?;
+    let mut g = try_zeroed::<f64>("a block's entries", nnz)?;
+    let mut std = if with_std { try_zeroed::<f64>("a block's standard errors", nnz)? } else { Vec::new() };
     let lens = || rows.iter().map(|r| r.len());
     let jobs: Vec<_> = rows
         .iter()
@@ -214,11 +214,67 @@ pub fn flatten_pair_rows(rows: &[PairRow]) -> Result<PairBlock> {
 }
 
 #[derive(Debug, Clone, PartialEq, Default)]
-pub struct Csr {
+pub struct Csr<V = f64> {
     pub indptr: Vec<i64>,
     /// Column indices: i32 like scipy's default, half the memory of i64 (n < 2^31 always).
     pub indices: Vec<i32>,
-    pub data: Vec<f64>,
+    pub data: Vec<V>,
+}
+
+/// A type F is stored as: f64, or f32 (a third less memory), each entry rounded once from
+/// the f64 quotient G / A, so a float32 result holds the float64 result's values rounded.
+pub trait Stored: Copy + Send + Sync + 'static {
+    fn from_f64(x: f64) -> Self;
+}
+
+impl Stored for f64 {
+    #[inline]
+    fn from_f64(x: f64) -> Self {
+        x
+    }
+}
+
+impl Stored for f32 {
+    #[inline]
+    fn from_f64(x: f64) -> Self {
+        x as f32
+    }
+}
+
+/// Number types whose all-zero bytes are the value 0.
+pub trait Zeroed: Copy {}
+impl Zeroed for i32 {}
+impl Zeroed for f32 {}
+impl Zeroed for f64 {}
+
+/// `count` zeros, or an error when the memory cannot be had. The zeros come from the
+/// allocator's zeroed memory (fresh pages of a big allocation are zero already: no serial
+/// fill, whose first touches of 377 MB were most of the cost; the parallel writes then
+/// touch each page once).
+pub fn try_zeroed<T: Zeroed>(what: &'static str, count: usize) -> Result<Vec<T>> {
+    let bytes = count.saturating_mul(std::mem::size_of::<T>());
+    let oom = || Error::OutOfMemory { what, count, bytes };
+    if count == 0 || std::mem::size_of::<T>() == 0 {
+        return Ok(Vec::new());
+    }
+    let layout = std::alloc::Layout::array::<T>(count).map_err(|_| oom())?;
+    // SAFETY: the layout has a nonzero size; a non-null pointer is `count` zeroed, aligned
+    // slots of T, for which zero bytes are a valid value (Zeroed), owned by the Vec from here
+    unsafe {
+        let ptr = std::alloc::alloc_zeroed(layout).cast::<T>();
+        if ptr.is_null() {
+            return Err(oom());
+        }
+        Ok(Vec::from_raw_parts(ptr, count, count))
+    }
+}
+
+/// dst = src / a, entry by entry (G over the row's area: F), stored as V.
+#[inline]
+fn put_divided<V: Stored>(dst: &mut [V], src: &[f64], a: f64) {
+    for (d, &v) in dst.iter_mut().zip(src) {
+        *d = V::from_f64(v / a);
+    }
 }
 
 /// One row of the upper triangle of the symmetric G = A_i F_ij: source row `row` and its
@@ -230,11 +286,29 @@ pub struct UpperRow<'a> {
     pub std: Option<&'a [f64]>,
 }
 
-/// The full F (and its standard errors when given) from the upper triangle of G: F_ij =
-/// G_ij / A_i and F_ji = G_ij / A_j, in one pass over the entries. Each row is given at most
-/// once, in any order; the result has ascending columns (lower entries, then upper).
-pub fn mirror_upper(areas: &[f64], rows: &[UpperRow<'_>], with_std: bool) -> Result<(Csr, Option<Csr>)> {
-    let n = areas.len();
+/// Where the entries of F go: for each output row, where it starts (`count`, with the total
+/// last) and how many entries come from rows above it (`lower`, the transposed ones).
+pub struct MirrorLayout {
+    by_row: Vec<Option<usize>>,
+    count: Vec<i64>,
+    lower: Vec<i64>,
+}
+
+impl MirrorLayout {
+    /// The entries of F (both triangles).
+    pub fn nnz(&self) -> usize {
+        *self.count.last().unwrap_or(&0) as usize
+    }
+
+    /// Row starts of F (CSR indptr).
+    pub fn indptr(&self) -> &[i64] {
+        &self.count
+    }
+}
+
+/// The layout of the F that [`mirror_into`] builds from these upper rows over `n` rows;
+/// checks the rows (each at most once, columns ascending above the diagonal and < n).
+pub fn mirror_layout(n: usize, rows: &[UpperRow<'_>]) -> Result<MirrorLayout> {
     let bad = |what: String| Err(Error::InvalidArgument(what));
     if n > i32::MAX as usize {
         return bad(format!("{n} rows: more than a CSR with i32 indices holds"));
@@ -264,10 +338,46 @@ pub fn mirror_upper(areas: &[f64], rows: &[UpperRow<'_>], with_std: bool) -> Res
     for i in 0..n {
         count[i + 1] += lower[i] + count[i];
     }
-    let nnz = count[n] as usize;
-    let mut indices = try_filled("the column indices of F", nnz, 0i32)?;
-    let mut data = try_filled("the entries of F", nnz, 0.0f64)?;
-    let mut sdata = if with_std { try_filled("the standard errors of F", nnz, 0.0f64)? } else { Vec::new() };
+    Ok(MirrorLayout { by_row, count, lower })
+}
+
+/// The full F (and its standard errors when given) from the upper triangle of G: F_ij =
+/// G_ij / A_i and F_ji = G_ij / A_j, in one pass over the entries, stored as V (f64 or f32:
+/// the division in f64, then rounded). Each row is given at most once, in any order; the
+/// result has ascending columns (lower entries, then upper).
+pub fn mirror_upper<V: Stored + Zeroed>(
+    areas: &[f64],
+    rows: &[UpperRow<'_>],
+    with_std: bool,
+) -> Result<(Csr<V>, Option<Csr<V>>)> {
+    let layout = mirror_layout(areas.len(), rows)?;
+    let nnz = layout.nnz();
+    let mut indices = try_zeroed::<i32>("the column indices of F", nnz)?;
+    let mut data = try_zeroed::<V>("the entries of F", nnz)?;
+    let mut sdata = if with_std { try_zeroed::<V>("the standard errors of F", nnz)? } else { Vec::new() };
+    mirror_into(areas, rows, &layout, &mut indices, &mut data, &mut sdata)?;
+    let count = layout.count;
+    let std = with_std.then(|| Csr { indptr: count.clone(), indices: indices.clone(), data: sdata });
+    Ok((Csr { indptr: count, indices, data }, std))
+}
+
+/// [`mirror_upper`] into arrays the caller provides (`layout.nnz()` long; `sdata` empty
+/// for no standard errors), e.g. memory of the caller's choosing.
+pub fn mirror_into<V: Stored>(
+    areas: &[f64],
+    rows: &[UpperRow<'_>],
+    layout: &MirrorLayout,
+    indices: &mut [i32],
+    data: &mut [V],
+    sdata: &mut [V],
+) -> Result<()> {
+    let n = areas.len();
+    let nnz = layout.nnz();
+    let with_std = !sdata.is_empty();
+    if layout.by_row.len() != n || indices.len() != nnz || data.len() != nnz || (with_std && sdata.len() != nnz) {
+        return Err(Error::InvalidArgument(format!("mirror: arrays of {nnz} entries over {n} rows expected")));
+    }
+    let (by_row, count, lower) = (&layout.by_row, &layout.count, &layout.lower);
     // In parallel over ranges of output rows, each owning its slice of the output: rows
     // [lo, hi) get their lower entries (column k < row, from source rows k ascending: the
     // run of k's columns inside [lo, hi), found by bisection) and then their upper entries.
@@ -284,9 +394,9 @@ pub fn mirror_upper(areas: &[f64], rows: &[UpperRow<'_>], with_std: bool) -> Res
     let lens = || bounds.windows(2).map(|w| (count[w[1]] - count[w[0]]) as usize);
     let jobs: Vec<_> = bounds
         .windows(2)
-        .zip(split_lengths(&mut indices, lens()))
-        .zip(split_lengths(&mut data, lens()))
-        .zip(split_lengths(&mut sdata, lens()))
+        .zip(split_lengths(indices, lens()))
+        .zip(split_lengths(data, lens()))
+        .zip(split_lengths(sdata, lens()))
         .map(|(((w, ind), dat), sd)| (w[0], w[1], ind, dat, sd))
         .collect();
     jobs.into_par_iter().for_each(|(lo, hi, ind, dat, sd)| {
@@ -297,11 +407,11 @@ pub fn mirror_upper(areas: &[f64], rows: &[UpperRow<'_>], with_std: bool) -> Res
             let r = &rows[b];
             let (up, m, a) = ((count[k] + lower[k]) as usize - base, r.cols.len(), areas[k]);
             ind[up..up + m].copy_from_slice(r.cols);
-            divide_into(&mut dat[up..up + m], r.g, a);
+            put_divided(&mut dat[up..up + m], r.g, a);
             if with_std {
                 match r.std {
-                    Some(s) => divide_into(&mut sd[up..up + m], s, a),
-                    None => sd[up..up + m].fill(0.0),
+                    Some(s) => put_divided(&mut sd[up..up + m], s, a),
+                    None => sd[up..up + m].fill(V::from_f64(0.0)),
                 }
             }
         }
@@ -348,17 +458,16 @@ pub fn mirror_upper(areas: &[f64], rows: &[UpperRow<'_>], with_std: bool) -> Res
                     }
                     let run = j * TILE..j * TILE + m;
                     ind[at..at + m].copy_from_slice(&buf_k[run.clone()]);
-                    divide_into(&mut dat[at..at + m], &buf_g[run.clone()], a);
+                    put_divided(&mut dat[at..at + m], &buf_g[run.clone()], a);
                     if with_std {
-                        divide_into(&mut sd[at..at + m], &buf_s[run], a);
+                        put_divided(&mut sd[at..at + m], &buf_s[run], a);
                     }
                     next[t0 + j - lo] += m;
                 }
             }
         }
     });
-    let std = with_std.then(|| Csr { indptr: count.clone(), indices: indices.clone(), data: sdata });
-    Ok((Csr { indptr: count, indices, data }, std))
+    Ok(())
 }
 
 /// The reciprocity error max |A_i F_ij - A_j F_ji| / max(|A_i F_ij|, |A_j F_ji|) of the F
@@ -390,13 +499,6 @@ pub fn upper_reciprocity(areas: &[f64], rows: &[UpperRow<'_>], as_f32: bool) -> 
         w
     };
     Ok(rows.par_iter().map(worst).reduce(|| 0.0, f64::max))
-}
-
-/// dst = src / a, entry by entry (G over the row's area: F).
-fn divide_into(dst: &mut [f64], src: &[f64], a: f64) {
-    for (d, &v) in dst.iter_mut().zip(src) {
-        *d = v / a;
-    }
 }
 
 #[cfg(test)]
@@ -454,7 +556,7 @@ mod tests {
             UpperRow { row: 0, cols: &c0, g: &g0, std: Some(&s0) },
             UpperRow { row: 1, cols: &c1, g: &g1, std: Some(&s1) },
         ];
-        let (f, s) = mirror_upper(&areas, &rows, true).unwrap();
+        let (f, s) = mirror_upper::<f64>(&areas, &rows, true).unwrap();
         let mut dense = [[0.0; 4]; 4];
         for i in 0..4 {
             let (a, b) = (f.indptr[i] as usize, f.indptr[i + 1] as usize);
@@ -474,10 +576,10 @@ mod tests {
         assert_eq!(s.data[0], 0.1 / 1.0); // row 0, column 1
                                           // malformed input is an error, not a panic
         let bad = [UpperRow { row: 1, cols: &[0i32], g: &[1.0], std: None }];
-        assert!(mirror_upper(&areas, &bad, false).is_err());
+        assert!(mirror_upper::<f64>(&areas, &bad, false).is_err());
         let twice =
             [UpperRow { row: 0, cols: &[], g: &[], std: None }, UpperRow { row: 0, cols: &[], g: &[], std: None }];
-        assert!(mirror_upper(&areas, &twice, false).is_err());
+        assert!(mirror_upper::<f64>(&areas, &twice, false).is_err());
     }
 
     #[test]
@@ -530,8 +632,13 @@ mod tests {
         }
         let rows: Vec<UpperRow> =
             data.iter().map(|(i, c, g, sd)| UpperRow { row: *i, cols: c, g, std: Some(sd) }).collect();
-        let (f, sd) = mirror_upper(&areas, &rows, true).unwrap();
+        let (f, sd) = mirror_upper::<f64>(&areas, &rows, true).unwrap();
         let sd = sd.unwrap();
+        // float32: the same pattern, every value the float64 one rounded once
+        let (f32s, sd32) = mirror_upper::<f32>(&areas, &rows, true).unwrap();
+        assert_eq!((&f32s.indptr, &f32s.indices), (&f.indptr, &f.indices));
+        assert!(f32s.data.iter().zip(&f.data).all(|(&x, &y)| x == y as f32));
+        assert!(sd32.unwrap().data.iter().zip(&sd.data).all(|(&x, &y)| x == y as f32));
         let mut want = vec![vec![0.0; n]; n];
         for (i, c, g, _) in &data {
             for (&j, &v) in c.iter().zip(g) {

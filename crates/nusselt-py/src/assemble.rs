@@ -1,9 +1,8 @@
 //! Assembly of the full F from the upper-triangle blocks of a pair-method run, in one pass
 //! (numpy/scipy would concatenate, transpose and merge: several copies of every entry).
 use crate::errors::guard;
-use numpy::{IntoPyArray, PyArray1, PyReadonlyArray1};
-use nusselt_core::matrix::{mirror_upper, upper_reciprocity, UpperRow};
-use nusselt_core::Error;
+use numpy::{Element, IntoPyArray, PyArray1, PyArrayMethods, PyReadonlyArray1};
+use nusselt_core::matrix::{mirror_into, mirror_layout, upper_reciprocity, MirrorLayout, Stored, UpperRow};
 use pyo3::prelude::*;
 use std::borrow::Cow;
 
@@ -14,22 +13,22 @@ type Block<'py> = (
     PyReadonlyArray1<'py, f64>,
     Option<PyReadonlyArray1<'py, f64>>,
 );
-type Out<'py> = (
-    Bound<'py, PyArray1<i64>>,
-    Bound<'py, PyArray1<i32>>,
-    Bound<'py, PyArray1<f64>>,
-    Option<Bound<'py, PyArray1<f64>>>,
-);
+type Out<'py> = (Bound<'py, PyArray1<i64>>, Bound<'py, PyArray1<i32>>, Bound<'py, PyAny>, Option<Bound<'py, PyAny>>);
 
 /// (indptr, indices, F, standard errors of F or None) over receiver indices, from blocks of
 /// (rows, indptr, columns, G, std of G) in scene indices; `col_of` maps scene index to
 /// receiver index (-1: not a receiver). Standard errors are kept only when some are nonzero.
+/// F (and its errors) are float32 when `float32`: written so, never held as float64 too.
+/// The output arrays come from `alloc(count, dtype name)` (1-d, writable, contiguous), so the
+/// caller picks their memory.
 #[pyfunction]
 pub fn mirror_pairs<'py>(
     py: Python<'py>,
     areas: PyReadonlyArray1<'py, f64>,
     col_of: PyReadonlyArray1<'py, i64>,
     blocks: Vec<Block<'py>>,
+    float32: bool,
+    alloc: Bound<'py, PyAny>,
 ) -> PyResult<Out<'py>> {
     let areas = areas.as_slice()?;
     let col_of = col_of.as_slice()?;
@@ -87,15 +86,57 @@ pub fn mirror_pairs<'py>(
             std: slices[*b].1.map(|sd| &sd[*s..*e]),
         })
         .collect();
-    let pool = crate::threads::pool();
-    let (f, sd) =
-        py.detach(|| guard(|| -> Result<_, Error> { pool.install(|| mirror_upper(areas, &rows, with_std)) }))?;
-    Ok((
-        f.indptr.into_pyarray(py),
-        f.indices.into_pyarray(py),
-        f.data.into_pyarray(py),
-        sd.map(|s| s.data.into_pyarray(py)),
-    ))
+    let layout = guard(|| mirror_layout(areas.len(), &rows))?;
+    let indices = fresh::<i32>(&alloc, layout.nnz(), "int32")?;
+    let (f, sd) = if float32 {
+        fill::<f32>(py, &alloc, areas, &rows, &layout, with_std, &indices, "float32")?
+    } else {
+        fill::<f64>(py, &alloc, areas, &rows, &layout, with_std, &indices, "float64")?
+    };
+    Ok((layout.indptr().to_vec().into_pyarray(py), indices, f, sd))
+}
+
+/// A 1-d array of `count` entries of type T from the caller's `alloc`.
+fn fresh<'py, T: Element>(alloc: &Bound<'py, PyAny>, count: usize, dtype: &str) -> PyResult<Bound<'py, PyArray1<T>>> {
+    let a = alloc.call1((count, dtype))?;
+    let a = a
+        .cast_into::<PyArray1<T>>()
+        .map_err(|_| pyo3::exceptions::PyTypeError::new_err(format!("alloc must return a 1-d {dtype} array")))?;
+    if a.len()? != count {
+        return Err(pyo3::exceptions::PyValueError::new_err(format!("alloc returned the wrong length for {count}")));
+    }
+    Ok(a)
+}
+
+/// Fills the caller's arrays with F (and its standard errors) as V, the GIL released.
+fn fill<'py, V: Stored + Element>(
+    py: Python<'py>,
+    alloc: &Bound<'py, PyAny>,
+    areas: &[f64],
+    rows: &[UpperRow<'_>],
+    layout: &MirrorLayout,
+    with_std: bool,
+    indices: &Bound<'py, PyArray1<i32>>,
+    dtype: &str,
+) -> PyResult<(Bound<'py, PyAny>, Option<Bound<'py, PyAny>>)> {
+    let nnz = layout.nnz();
+    let data = fresh::<V>(alloc, nnz, dtype)?;
+    let sd = if with_std { Some(fresh::<V>(alloc, nnz, dtype)?) } else { None };
+    {
+        let mut iw = indices.try_readwrite()?;
+        let mut dw = data.try_readwrite()?;
+        let mut sw = sd.as_ref().map(|s| s.try_readwrite()).transpose()?;
+        let not_contiguous = |_| pyo3::exceptions::PyValueError::new_err("alloc must return contiguous arrays");
+        let is = iw.as_slice_mut().map_err(not_contiguous)?;
+        let ds = dw.as_slice_mut().map_err(not_contiguous)?;
+        let ss: &mut [V] = match sw.as_mut() {
+            Some(w) => w.as_slice_mut().map_err(not_contiguous)?,
+            None => &mut [],
+        };
+        let pool = crate::threads::pool();
+        py.detach(|| guard(|| pool.install(|| mirror_into(areas, rows, layout, is, ds, ss))))?;
+    }
+    Ok((data.into_any(), sd.map(|s| s.into_any())))
 }
 
 type Upper<'py> =

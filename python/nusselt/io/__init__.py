@@ -13,25 +13,61 @@ This package does not import the compiled core, so files can be read and written
 
 from __future__ import annotations
 
+import importlib
 import os
+from typing import TYPE_CHECKING, Any
 
-from .energyplus import read_energyplus, read_user_view_factors
-from .meshes import read_mesh
-from .obj import read_obj
 from .scenedata import SceneData
-from .topology import orient_faces
-from .view3d import read_view3d, read_view3d_output
-from .writers import (
-    load_npz,
-    result_format,
-    write_csv,
-    write_energyplus,
-    write_npz,
-    write_result,
-    write_user_view_factors,
-    write_view3d,
-    write_vtu,
-)
+
+if TYPE_CHECKING:
+    from .energyplus import read_energyplus, read_user_view_factors
+    from .meshes import read_mesh
+    from .obj import read_obj
+    from .view3d import read_view3d, read_view3d_output
+    from .writers import (
+        load_npz,
+        result_format,
+        write_csv,
+        write_energyplus,
+        write_npz,
+        write_result,
+        write_user_view_factors,
+        write_view3d,
+        write_vtu,
+    )
+
+# Each reader and writer is imported when first used: a run reads one format and writes one,
+# and importing them all cost a tenth of the start-up of a small run (docs/scale.md).
+_LAZY = {
+    "read_energyplus": "energyplus",
+    "read_user_view_factors": "energyplus",
+    "read_mesh": "meshes",
+    "read_obj": "obj",
+    "orient_faces": "topology",
+    "read_view3d": "view3d",
+    "read_view3d_output": "view3d",
+    **dict.fromkeys(
+        (
+            "load_npz",
+            "result_format",
+            "write_csv",
+            "write_energyplus",
+            "write_npz",
+            "write_result",
+            "write_user_view_factors",
+            "write_view3d",
+            "write_vtu",
+        ),
+        "writers",
+    ),
+}
+
+
+def __getattr__(name: str) -> Any:
+    if name in _LAZY:
+        return getattr(importlib.import_module(f".{_LAZY[name]}", __name__), name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
 
 _OWN = {".obj": "obj", ".vs3": "view3d", ".idf": "energyplus", ".epjson": "energyplus"}
 
@@ -43,23 +79,23 @@ def _read_by_format(path, format: str | None = None) -> SceneData:
     ``"energyplus"`` (or ``"idf"``, ``"epjson"``), or a meshio format name (``"stl"``,
     ``"gmsh"``, ``"vtu"`` ...)."""
     path = os.fspath(path)
-    if format is not None:
-        f = format.lower()
-        if f == "obj":
-            return read_obj(path)
-        if f in ("vs3", "view3d"):
-            return read_view3d(path)
-        if f in ("energyplus", "idf", "epjson"):
-            return read_energyplus(path)
-        return read_mesh(path, format=format)
-    kind = _OWN.get(os.path.splitext(path)[1].lower())
+    kind = format.lower() if format is not None else _OWN.get(os.path.splitext(path)[1].lower())
+    kind = {"vs3": "view3d", "idf": "energyplus", "epjson": "energyplus"}.get(kind or "", kind)
     if kind == "obj":
+        from .obj import read_obj
+
         return read_obj(path)
     if kind == "view3d":
+        from .view3d import read_view3d
+
         return read_view3d(path)
     if kind == "energyplus":
+        from .energyplus import read_energyplus
+
         return read_energyplus(path)
-    return read_mesh(path)
+    from .meshes import read_mesh
+
+    return read_mesh(path, format=format) if format is not None else read_mesh(path)
 
 
 def read_scene(path, format: str | None = None, orient: str = "as-is") -> SceneData:
@@ -77,6 +113,8 @@ def read_scene(path, format: str | None = None, orient: str = "as-is") -> SceneD
             f"{path}: not enough memory to read this {size / 2**20:.0f} MiB file" + (f" ({e})" if str(e) else "")
         ) from None
     if orient != "as-is":
+        from .topology import orient_faces
+
         data.faces, report = orient_faces(data.vertices, data.faces, orient)
         data.meta["orient"] = {"orient": orient, "flipped": report["flipped"].tolist()}
     return data

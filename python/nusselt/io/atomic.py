@@ -18,7 +18,6 @@ from __future__ import annotations
 import contextlib
 import os
 import re
-import secrets
 from collections.abc import Iterator
 from typing import IO
 
@@ -32,7 +31,7 @@ def _tmp_pattern(target: str) -> re.Pattern:
 def temp_name(target: str) -> str:
     """A fresh temporary path next to ``target`` (see the module docstring)."""
     d, base = os.path.split(os.path.abspath(target))
-    return os.path.join(d, f".{base}{_TMP_TAG}{os.getpid()}-{secrets.token_hex(4)}.tmp")
+    return os.path.join(d, f".{base}{_TMP_TAG}{os.getpid()}-{os.urandom(4).hex()}.tmp")
 
 
 def _alive(pid: int) -> bool:

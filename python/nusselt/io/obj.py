@@ -10,6 +10,7 @@ from __future__ import annotations
 import numpy as np
 
 from .scenedata import MAX_LINE_BYTES, SceneData, check_readable, parse_error, text_lines
+from .topology import sorted_unique
 
 #: Statements that carry nothing a form-factor computation needs.
 _IGNORED = {
@@ -157,7 +158,7 @@ def read_obj(path: str) -> SceneData:
         )
     # Names that only appear before other names and own no faces are dropped.
     surface = np.array(face_surface, dtype=np.int64)
-    used = np.unique(surface)
+    used = sorted_unique(surface)
     remap = np.zeros(len(names), dtype=np.int64)
     remap[used] = np.arange(len(used))
     all_names = list(names)

@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-import csv
-import json
 import os
 from collections.abc import Iterator
 from dataclasses import dataclass, field
@@ -73,6 +71,8 @@ def text_lines(path: str, kind: str) -> Iterator[tuple[int, str]]:
 def csv_rows(path: str, kind: str) -> Iterator[tuple[int, list[str]]]:
     """(line number, fields) of each record of a CSV file, read through :func:`text_lines`
     (so with its line cap); a malformed record is a ValueError naming the file and line."""
+    import csv
+
     lines = text_lines(path, kind)
     reader = csv.reader(text + "\n" for _, text in lines)
     while True:
@@ -101,6 +101,8 @@ def read_json(path: str, kind: str, advice: str = ""):
             f"{size / (1 << 20):.0f} MiB is larger than the {MAX_JSON_BYTES >> 20} MiB a {kind} file may have "
             f"(JSON is read whole){'; ' + advice if advice else ''}",
         )
+    import json
+
     with open(path, "rb") as fh:
         text = fh.read().decode("utf-8-sig", errors="replace")
     try:

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import os
 
-from ._common import MAX_DENSE_ROWS, _check_size, field
+from ._common import MAX_DENSE_ROWS, _check_size, field, stored_matrix
 from .csv import write_csv
 from .energyplus import write_energyplus, write_result_energyplus, write_user_view_factors
 from .npz import NPZ_FORMAT, NPZ_VERSION, load_npz, write_npz, write_result_npz
@@ -87,7 +87,7 @@ def write_result(
     """
     path = os.fspath(path)
     fmt = result_format(path, format)
-    if field(result, "matrix") is None or field(result, "areas") is None or field(result, "names") is None:
+    if stored_matrix(result) is None or field(result, "areas") is None or field(result, "names") is None:
         raise ValueError("result needs matrix, areas and names")
     patch_level = field(result, "surface") is not None
     if fmt == "npz":

@@ -13,7 +13,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..._sparse import issparse
+from ..._sparse import Csr, issparse
 
 if TYPE_CHECKING:
     import scipy.sparse as sp
@@ -37,7 +37,11 @@ def _square(matrix, what: str = "matrix"):
     return shape[0]
 
 
-def _csr(matrix) -> sp.csr_array:
+def _csr(matrix) -> sp.csr_array | Csr:
+    """The matrix in CSR form with sorted, summed entries (a :class:`Csr`, canonical by
+    construction, stays as it is: no scipy)."""
+    if isinstance(matrix, Csr):
+        return matrix
     import scipy.sparse as sp
 
     if issparse(matrix):
@@ -82,6 +86,20 @@ def _check_size(path: str, n: int, max_rows: int | None, kind: str) -> None:
             f"(limit {max_rows} rows); write .npz instead (sparse, read back with "
             "nusselt.io.load_npz), or aggregate to surfaces"
         )
+
+
+def stored_matrix(result):
+    """A result's matrix as it holds it: a FormFactors' may still be the scipy-free
+    :class:`nusselt._sparse.Csr` of the assembly (writing it to ``.npz`` then loads no
+    scipy); other results: their ``matrix``."""
+    get = getattr(result, "_stored_matrix", None)
+    return get() if callable(get) else field(result, "matrix")
+
+
+def row_sums(matrix) -> np.ndarray:
+    if isinstance(matrix, Csr):
+        return matrix.row_sums()
+    return np.asarray(matrix.sum(axis=1), dtype=np.float64).ravel()
 
 
 def field(result, key, default=None):

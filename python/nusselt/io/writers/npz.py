@@ -8,11 +8,11 @@ from typing import IO, Any
 
 import numpy as np
 
-from ..._sparse import issparse
+from ..._sparse import Csr, issparse
 from ..atomic import atomic_path
 from ..direct import CHUNK, MIN_BYTES, DirectWriter
 from ..scenedata import check_readable, parse_error
-from ._common import _areas, _csr, _names, _square, field
+from ._common import _areas, _csr, _names, _square, field, row_sums, stored_matrix
 
 NPZ_FORMAT = "nusselt-form-factors"
 NPZ_VERSION = 1
@@ -28,13 +28,12 @@ def write_npz(path, matrix, areas, names, *, compress: bool = False, **extra_arr
     Index arrays are stored as int32 when they fit (else int64) and values as float32 or
     float64 as given, so the file is no larger than the matrix in memory.
     """
-    import scipy.sparse as sp
-
     path = os.fspath(path)
     n = _square(matrix)
     m = _csr(matrix)
-    m.sum_duplicates()
-    m.sort_indices()
+    if not isinstance(m, Csr):
+        m.sum_duplicates()
+        m.sort_indices()
     arrays = {
         "format": np.array(NPZ_FORMAT),
         "version": np.array(NPZ_VERSION),
@@ -51,6 +50,8 @@ def write_npz(path, matrix, areas, names, *, compress: bool = False, **extra_arr
         if val is None:
             continue
         if issparse(val):
+            import scipy.sparse as sp
+
             e = sp.csr_array(val)
             arrays[f"{key}.shape"] = np.array(e.shape, dtype=np.int64)
             arrays[f"{key}.indptr"] = _index_array(e.indptr, e.nnz)
@@ -158,8 +159,9 @@ def write_result_npz(path: str, result, scene, *, compress: bool) -> None:
     """A result as :func:`write_npz` stores it, with its row sums, faces, surfaces, errors,
     method, info and the scene's source file (see :func:`nusselt.io.write_result`)."""
     extra: dict[str, Any] = {}
-    matrix = field(result, "matrix")
-    extra["row_sums"] = np.asarray(matrix.sum(axis=1)).ravel()
+    matrix = stored_matrix(result)
+    known = getattr(result, "row_sums", None) if not isinstance(result, dict) else None
+    extra["row_sums"] = np.asarray(known if known is not None else row_sums(matrix), dtype=np.float64)
     for key in ("faces", "surface", "lost", "std_err"):
         v = field(result, key)
         if v is not None:

@@ -7,6 +7,7 @@ import os
 
 import numpy as np
 
+from ..._sparse import as_scipy
 from ..atomic import atomic_path
 from ._common import _csr, _square, field
 
@@ -57,7 +58,7 @@ def write_result_vtu(path: str, result, scene, to_surface: str | None, patch_lev
     """A result on the scene's polygons (see :func:`nusselt.io.write_result`)."""
     matrix = field(result, "matrix")
     n = _square(matrix)
-    m = _csr(matrix)
+    m = as_scipy(_csr(matrix))
     faces_of_rows = np.asarray(field(result, "faces"), dtype=np.int64)
     nface = len(scene.faces)
     surf = np.asarray(scene.surface, dtype=np.int64)
