@@ -3,32 +3,19 @@
 use nusselt_core::matrix::{mirror_upper, UpperRow};
 use nusselt_core::obstructed::VisMethod;
 use nusselt_core::scene::{AllOptions, AnyMethod, Scene};
-use nusselt_core::{Polygon, Vec3};
+use nusselt_core::Vec3;
 use std::sync::atomic::AtomicBool;
 use std::time::Instant;
+
+#[path = "common/room.rs"]
+#[allow(dead_code)] // room() serves the other examples
+mod room;
 
 fn main() {
     let args: Vec<String> = std::env::args().collect();
     let k: usize = args.get(1).and_then(|s| s.parse().ok()).unwrap_or(32);
     let tol: f64 = args.get(2).and_then(|s| s.parse().ok()).unwrap_or(0.03);
-    let faces = [
-        (Vec3::ZERO, Vec3::X, Vec3::Y),
-        (Vec3::ONE, -Vec3::Y, -Vec3::X),
-        (Vec3::ZERO, Vec3::Y, Vec3::Z),
-        (Vec3::ONE, -Vec3::Z, -Vec3::Y),
-        (Vec3::ZERO, Vec3::Z, Vec3::X),
-        (Vec3::ONE, -Vec3::X, -Vec3::Z),
-    ];
-    let h = 1.0 / k as f64;
-    let mut polys = Vec::new();
-    for (o, u, w) in faces {
-        for a in 0..k {
-            for b in 0..k {
-                let p = o + u * (a as f64 * h) + w * (b as f64 * h);
-                polys.push(Polygon::new(vec![p, p + u * h, p + u * h + w * h, p + w * h]).unwrap());
-            }
-        }
-    }
+    let polys = room::meshed_box(1.0, Vec3::ZERO, k, true);
     let n = polys.len();
     let scene = Scene::new(polys, vec![true; n]).unwrap();
     let t = Instant::now();

@@ -8,11 +8,14 @@
 //! number above 1 (over the partly hidden pairs; fully hidden ones must come out exactly 0,
 //! and the count of those that do not is printed), and the CPU time per pair (this thread). NUSSELT_MAXEVALS=N sets `max_evals`;
 //! NUSSELT_WORST=1 lists the pairs above their target.
+#[path = "common/pairs.rs"]
+mod pairs;
 #[path = "common/polygon_file.rs"]
 mod polygon_file;
 use nusselt_core::obstructed::{self, Context, VisMethod, VisOptions};
-use nusselt_core::unobstructed::method::{self, Facing, Method};
+use nusselt_core::unobstructed::method::{self, Method};
 use nusselt_core::visibility::{Bvh, Occluders, Visibility};
+use pairs::facing_pairs;
 use polygon_file::read_polygons;
 use std::time::Instant;
 
@@ -46,16 +49,11 @@ fn main() {
             .collect(),
         Err(_) => {
             let o = VisOptions { tol: 1e-11, exact_tol: 1e-12, max_evals: 2_000_000, ..Default::default() };
-            let (mut out, mut cand, n) = (Vec::new(), Vec::new(), polys.len());
-            let mut s = 0x9e37_79b9_7f4a_7c15u64;
+            let (mut out, mut cand) = (Vec::new(), Vec::new());
             let t0 = Instant::now();
-            while out.len() < want {
-                s ^= s << 13;
-                s ^= s >> 7;
-                s ^= s << 17;
-                let (i, j) = ((s % n as u64) as usize, ((s >> 20) % n as u64) as usize);
-                if i == j || method::facing(&polys[i], &polys[j]) == Facing::None {
-                    continue;
+            for (i, j) in facing_pairs(&polys) {
+                if out.len() >= want {
+                    break;
                 }
                 bvh.candidates_between(&polys[i], &polys[j], &[occ.owner[i], occ.owner[j]], &mut cand);
                 if cand.is_empty() {

@@ -4,10 +4,12 @@
 //! Reference: the adaptive rule at tol 1e-10. Errors are relative to each pair's unobstructed
 //! G = A_i F_ij (what `tol` bounds).
 use nusselt_core::obstructed::{self, Context, VisMethod, VisOptions};
-use nusselt_core::unobstructed::method::{self, Facing, Method};
+use nusselt_core::unobstructed::method::{self, Method};
 use nusselt_core::visibility::{Bvh, Occluders, Visibility};
 use std::time::Instant;
 
+#[path = "common/pairs.rs"]
+mod pairs;
 #[path = "common/room.rs"]
 mod room;
 
@@ -21,21 +23,14 @@ fn main() {
     let occ_bvh = Bvh::new(&occ.polygons).unwrap();
     let ctx = Context { polygons: &polys, occluders: &occ, vis: &occ_bvh, rules: None };
     // random pairs with a candidate blocker in between (xorshift, fixed seed)
-    let (mut pairs, mut cand, np) = (Vec::new(), Vec::new(), polys.len());
-    let mut s = 0x9e37_79b9_7f4a_7c15u64;
-    while pairs.len() < want {
-        s ^= s << 13;
-        s ^= s >> 7;
-        s ^= s << 17;
-        let (i, j) = ((s % np as u64) as usize, ((s >> 20) % np as u64) as usize);
-        if i == j || method::facing(&polys[i], &polys[j]) == Facing::None {
-            continue;
-        }
-        bvh.candidates_between(&polys[i], &polys[j], &[i as u32, j as u32], &mut cand);
-        if !cand.is_empty() {
-            pairs.push((i, j));
-        }
-    }
+    let mut cand = Vec::new();
+    let pairs: Vec<(usize, usize)> = pairs::facing_pairs(&polys)
+        .filter(|&(i, j)| {
+            bvh.candidates_between(&polys[i], &polys[j], &[i as u32, j as u32], &mut cand);
+            !cand.is_empty()
+        })
+        .take(want)
+        .collect();
     let o = VisOptions { tol: 1e-10, exact_tol: 1e-12, ..Default::default() };
     let t0 = Instant::now();
     let refs: Vec<f64> =
@@ -46,7 +41,8 @@ fn main() {
         .collect();
     let hidden = refs.iter().zip(&free).map(|(r, f)| 1.0 - r / f).sum::<f64>() / pairs.len() as f64;
     println!(
-        "{np} patches, {} obstructed pairs (mean hidden fraction {hidden:.3}), reference in {:.1} s",
+        "{} patches, {} obstructed pairs (mean hidden fraction {hidden:.3}), reference in {:.1} s",
+        polys.len(),
         pairs.len(),
         t0.elapsed().as_secs_f64()
     );

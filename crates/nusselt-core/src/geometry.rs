@@ -145,7 +145,7 @@ impl Polygon {
     }
     /// True when every corner turns left about the normal by a sine of at least 1e-12
     /// (strictly convex: a quadrilateral's bilinear map is then one-to-one), by
-    /// [`turns_left`]. Python's `Scene.refined` and the area rules split such quads bilinearly.
+    /// `turns_left`. Python's `Scene.refined` and the area rules split such quads bilinearly.
     pub fn is_strictly_convex(&self) -> bool {
         turns_left(&self.vertices, turn_about(self.normal), 1e-12)
     }
