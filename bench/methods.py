@@ -5,6 +5,7 @@ the defaults of the sampled pair methods, and the calibration of the work budget
     python bench/methods.py curves          # error vs CPU over option values (docs/methods.md)
     python bench/methods.py budget          # work units per CPU second (docs/guide.md)
     python bench/methods.py interrupt       # seconds from Ctrl-C to KeyboardInterrupt, per method
+    python bench/methods.py extremes        # every option at its range ends: finishes or budget error
     python bench/methods.py scenes --scenes room --methods subdivision adaptive
 
 `scenes`: each method at its defaults on the 270-patch closed room with a floating crate
@@ -19,9 +20,7 @@ method first runs on `--rows` sampled whole rows (:func:`scale.pair_sample_rows`
 methods) and its CPU is projected to the scene (the fixed costs of a call once, plus the rows' CPU
 over their share of the pairs or rows); only if that is under `--cap` CPU seconds is the whole scene run and timed.
 Sampled rows give the patch error and the patch-to-surface error (F of a sampled patch to
-each named surface) on those rows. `analytic` and `contour` assume nothing is in between: on the
-scenes with obstacles they refuse (a ValueError naming a blocked pair), and are measured on
-the room without its crate instead.
+each named surface) on those rows.
 
 `curves`: the sampled pair methods (`quadrature`, `montecarlo`, `subdivision`, `adaptive`) over
 their option values on a suite of obstructed pairs (:func:`obstructed_pairs`: big plates with
@@ -34,6 +33,11 @@ errors.
 budget unlimited: one pair with 10 blockers, a point, or the 5 400-patch box for `analytic`,
 `contour` and `auto`), interrupted after 0.3 s as Ctrl-C does (`_thread.interrupt_main`); the
 wall seconds from the interrupt to the KeyboardInterrupt, worst of `--repeats`.
+
+`extremes`: every method with each option at the low and the high end of its range (and the
+costliest combination, `LONG_CALLS`) on a pair with 10 blockers, an unobstructed pair and a
+point, at a small budget (default 2^20 units): every call must finish or stop with the
+budget error, within a time that budget bounds.
 
 `budget`: work units per CPU second of each method (one unit: a ray test, a hemicube or
 single-plane cell, a disk cell, a traced ray), from the smallest budget a pair or row passes.
@@ -277,23 +281,11 @@ def scenes_table(args):
         print(f"== {key}: {n} patches", flush=True)
         if key == "room":
             ref = reference(scene, key)
-            empty = scenes.room_with_crate()
-            k = [i for i, name in enumerate(empty.surface) if name.startswith("wall")]
-            empty_scene = nusselt.Scene.from_polygons(
-                [empty.polygons[i] for i in k], surface=[empty.surface[i] for i in k]
-            )
-            empty_ref = nusselt.form_factors(empty_scene, method="auto")
             for method in args.methods:
-                sc, rf, note = scene, ref, ""
-                if not nusselt.METHODS[method].obstructed:
-                    try:
-                        nusselt.form_factors(scene, method=method)
-                    except ValueError as e:
-                        note = f"refuses the crate ({str(e).split(':')[0]}); room without it"
-                    sc, rf = empty_scene, empty_ref
-                res, c, w = cpu_wall(lambda: nusselt.form_factors(sc, method=method))
-                line = {"scene": key, "patches": len(sc), "method": method, "cpu": c, "wall": w, **errors(res, rf)}
-                line["note"] = note
+                load = os.getloadavg()[0]
+                res, c, w = cpu_wall(lambda: nusselt.form_factors(scene, method=method))
+                line = {"scene": key, "patches": n, "method": method, "cpu": c, "wall": w, **errors(res, ref)}
+                line["load"] = load
                 rows_out.append(line)
                 print(json.dumps(line), flush=True)
         else:
@@ -365,15 +357,6 @@ def big_scene_rows(key, spec, scene, args):
     out = []
     for method in args.methods:
         line = {"scene": key, "patches": n, "method": method}
-        if not nusselt.METHODS[method].obstructed:
-            try:
-                _, c, w = cpu_wall(lambda: nusselt.form_factors(scene, method=method))
-                line.update(cpu=c, wall=w, note="ran on an obstructed scene")
-            except ValueError as e:
-                line["note"] = f"refuses: {str(e)[:160]}"
-            out.append(line)
-            print(json.dumps(line), flush=True)
-            continue
         try:
             f, c, projected = sample_full_rows(spec, rows, method)
         except ValueError as e:
@@ -410,6 +393,7 @@ def budget(args):
             return False
 
     settings = [("subdivision", {}), ("adaptive", {}), ("montecarlo", {}), ("quadrature", {}), ("clipping", {})]
+    settings += [("analytic", {}), ("montecarlo", {"control_variate": False})]
     settings.append(("subdivision", {"divisions": 64, "source": 16}))
     for m, o in settings:
         lo, hi = 1, 1 << 40
@@ -418,6 +402,82 @@ def budget(args):
             lo, hi = (lo, mid) if passes(m, o, mid) else (mid, hi)
         _, c = repeated_cpu(lambda: nusselt.view_factor(a, b, obstacles=obs, method=m, **o), min_total=0.3)
         print(f"{m:12s} {str(o):34s} units {hi:>11d}  CPU {c * 1e3:9.2f} ms  units/s {hi / c:.2e}", flush=True)
+
+
+def extreme_settings(method):
+    """Option sets of `method` at the ends of their allowed ranges: each option alone at its
+    low and its high end (the others at their defaults; both values of a flag), and the
+    costliest combination (`LONG_CALLS`)."""
+    out = [{}]
+    for k, o in nusselt.METHODS[method].options.items():
+        if k in ("budget", "seed"):
+            continue
+        if o.kind is bool:
+            out.append({k: not o.default})
+            continue
+        for v in (o.lo, o.hi):
+            v = int(v) if o.kind is not float else v
+            if (method, k) == ("hemicube", "resolution"):
+                v -= v % 2
+            out.append({k: v})
+    return out + [dict(LONG_CALLS[method])]
+
+
+def extremes(args):
+    """Every method at the ends of its options' ranges on an obstructed and an unobstructed
+    pair (and the obstructed one from a point), with a small budget: each call must finish or
+    stop with the budget error, in a time the budget bounds (work that the budget does not
+    count would show as a call that runs long). Calls still running after `--limit` s are
+    interrupted (as Ctrl-C) and reported."""
+    import _thread
+    import threading
+
+    a, b = rect(0, 1, 0, 1), rect(0, 1, 0, 1, z=1, flip=True)
+    cases = {
+        "obstructed pair": (a, b, [rect(0.1 * k, 0.1 * k + 0.05, 0.2, 0.8, z=0.5) for k in range(10)]),
+        "unobstructed pair": (a, b, []),
+    }
+    p, n = np.array([0.5, 0.5, 0.0]), np.array([0.0, 0.0, 1.0])
+    worst = []
+    for method in args.methods:
+        point = nusselt.METHODS[method].kind == "pairs"
+        for opts in extreme_settings(method):
+            calls = {
+                k: (lambda a=a, b=b, obs=obs: nusselt.view_factor(a, b, obstacles=obs, method=method, **o))
+                for k, (a, b, obs) in cases.items()
+                for o in [{**opts, "budget": args.budget}]
+            }
+            if point:
+                o = {**opts, "budget": args.budget}
+                obs = cases["obstructed pair"][2]
+                calls["obstructed point"] = lambda o=o, obs=obs: nusselt.point_view_factor(
+                    p, n, b, obstacles=obs, method=method, **o
+                )
+            for what, call in calls.items():
+                timer = threading.Timer(args.limit, _thread.interrupt_main)
+                c0, t0 = time.process_time(), time.perf_counter()
+                timer.start()
+                try:
+                    call()
+                    outcome = "finished"
+                except ValueError as e:
+                    outcome = "budget" if "needs more than budget" in str(e) else f"error: {e}"
+                except KeyboardInterrupt:
+                    outcome = f"RUNNING after {args.limit} s"
+                finally:
+                    timer.cancel()
+                c, w = time.process_time() - c0, time.perf_counter() - t0
+                line = {"method": method, "opts": opts, "call": what, "outcome": outcome, "cpu": round(c, 3)}
+                line["wall"] = round(w, 3)
+                worst.append(line)
+                if args.verbose or c > args.report or not outcome.startswith(("finished", "budget")):
+                    print(json.dumps(line), flush=True)
+    top = sorted(worst, key=lambda r: -r["cpu"])[:10]
+    print(f"{len(worst)} calls at budget={args.budget}; the 10 costliest (CPU s):")
+    for r in top:
+        print(f"  {r['cpu']:7.2f}  {r['method']:12s} {r['call']:18s} {r['outcome']:10s} {r['opts']}")
+    bad = [r for r in worst if not r["outcome"].startswith(("finished", "budget"))]
+    print(f"{len(bad)} calls neither finished nor stopped at the budget")
 
 
 def interrupt_latency(call, after=0.3):
@@ -525,6 +585,12 @@ def main():
     i.add_argument("--methods", nargs="+", default=ALL_METHODS)
     i.add_argument("--repeats", type=int, default=3)
     sub.add_parser("budget")
+    e = sub.add_parser("extremes")
+    e.add_argument("--methods", nargs="+", default=ALL_METHODS)
+    e.add_argument("--budget", type=int, default=2**20, help="work units per pair or row")
+    e.add_argument("--limit", type=float, default=30.0, help="seconds before a call is interrupted")
+    e.add_argument("--report", type=float, default=1.0, help="print every call above this CPU s")
+    e.add_argument("--verbose", action="store_true")
     args = ap.parse_args()
     if args.what == "curves":
         args.settings = [(s.split(":", 1)[0], json.loads(s.split(":", 1)[1])) for s in args.setting] or None
@@ -535,6 +601,8 @@ def main():
             plot(rows, args.plot)
     elif args.what == "interrupt":
         interrupt(args)
+    elif args.what == "extremes":
+        extremes(args)
     else:
         budget(args)
 

@@ -7,7 +7,8 @@
 //! - **the work budget** of one pair (pair methods) or one row (row methods): the number of
 //!   work units it may spend, one unit being one visibility evaluation — a point-to-point
 //!   ray test, a hemicube or single-plane cell, a Nusselt disk cell, a traced ray, a shadow
-//!   evaluation per blocker — or one point pair of `quadrature` / `montecarlo` that needs
+//!   evaluation per blocker, a visible piece a shadow is cut from, a kink plane compared — or
+//!   one point pair of `quadrature` / `montecarlo` that needs
 //!   no ray test (so every sample counts, an unobstructed pair's too). A pair or row that
 //!   needs more fails with [`Error::Budget`] instead of running for minutes.
 //!
