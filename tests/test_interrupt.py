@@ -183,8 +183,8 @@ def test_sigint_to_the_cli_keeps_finished_blocks_and_resume_is_identical(tmp_pat
     finally:
         if p.poll() is None:
             p.kill()
-    if p.returncode == 0:
-        pytest.skip("the run finished before SIGINT arrived")
+    if p.returncode == 0 or "written in full" in err:
+        pytest.skip("the rows finished before SIGINT arrived")
     assert p.returncode == 130, err
     last = err.strip().splitlines()[-1]
     assert partial in last and "--resume" in last and "Traceback" not in err, err
