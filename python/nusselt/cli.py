@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import contextlib
 import sys
 import warnings
 from typing import Any
@@ -226,20 +227,61 @@ def cmd_matrix(args) -> int:
                 "run the same command with --resume to continue"
             ) from None
         raise
-    if args.correct:
-        res = _corrected(res, closure=args.correct == "closure")
-    if args.surfaces:
-        patch_level = res.trust()
-        res = res.by_surface()
-        res.info["patch_level"] = patch_level
-    res.info.update(res.trust())
-    write_result(
-        args.output, res, scene=scene, to_surface=args.to_surface, zone_name=args.zone_name, compress=args.compress
-    )
-    remove_dir(partial)  # the manifest last: a Ctrl-C here leaves a checkpoint that resumes
+    # every row is computed, possibly held in memory only (a deferred checkpoint): a Ctrl-C
+    # from here on finishes the output instead of losing the work; a second one abandons it
+    with _interrupt_finishes(args.output, partial) as interrupted:
+        if args.correct:
+            res = _corrected(res, closure=args.correct == "closure")
+        if args.surfaces:
+            patch_level = res.trust()
+            res = res.by_surface()
+            res.info["patch_level"] = patch_level
+        res.info.update(res.trust())
+        write_result(
+            args.output, res, scene=scene, to_surface=args.to_surface, zone_name=args.zone_name, compress=args.compress
+        )
+        remove_dir(partial)  # the manifest last: a Ctrl-C here leaves a checkpoint that resumes
     print(res.summary())
     print(f"written {args.output}")
+    if interrupted:
+        print(f"nusselt: interrupted after every row was computed; {args.output} is written in full", file=sys.stderr)
+        return 130
     return 0
+
+
+@contextlib.contextmanager
+def _interrupt_finishes(output: str, partial: str):
+    """Within the block, the first SIGINT only sets the yielded list (and says so on stderr):
+    the work it protects (writing a finished result) runs to its end. A second SIGINT raises
+    KeyboardInterrupt, naming the checkpoint that holds the finished blocks if there is one."""
+    import os
+    import signal
+    import threading
+
+    interrupted: list[bool] = []
+    if threading.current_thread() is not threading.main_thread():
+        yield interrupted  # signals reach the main thread only
+        return
+
+    def on_sigint(signum, frame) -> None:
+        if not interrupted:
+            interrupted.append(True)
+            print(
+                f"nusselt: every row is computed; finishing {output} (Ctrl-C again to abandon it)",
+                file=sys.stderr,
+            )
+            return
+        kept = os.path.isdir(partial) and any(f.startswith("block_") for f in os.listdir(partial))
+        raise KeyboardInterrupt(
+            f"interrupted again: {output} is not written"
+            + (f"; the finished blocks are kept in {partial}: run the same command with --resume" if kept else "")
+        )
+
+    previous = signal.signal(signal.SIGINT, on_sigint)
+    try:
+        yield interrupted
+    finally:
+        signal.signal(signal.SIGINT, previous)
 
 
 def _dask_client(address: str):

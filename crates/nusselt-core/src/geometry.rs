@@ -297,36 +297,47 @@ pub fn newell_normal(v: &[Vec3]) -> Vec3 {
     acc
 }
 
-/// [`newell_normal`] in double-double arithmetic (error-free differences and products by
-/// FMA), rounded once at the end: the direction is accurate to a few eps even for a needle,
-/// whose plane in plain arithmetic is known only to ~eps / sin(its smallest angle) (8e-13
-/// rad for a triangle 2e-5 wide), which tilts everything measured from that plane.
-pub fn accurate_normal(v: &[Vec3]) -> Vec3 {
-    // (s, e) with s + e = a + b exactly (Knuth's TwoSum)
-    fn two_sum(a: f64, b: f64) -> (f64, f64) {
-        let s = a + b;
-        let bb = s - a;
-        (s, (a - (s - bb)) + (b - bb))
+/// A double-double number hi + lo (|lo| about an ulp of hi at most): the few quantities that
+/// must keep more digits than their inputs' rounding leaves (a needle's plane, a vertex's
+/// height over a nearly coplanar plane) are summed in it from error-free differences and
+/// products (TwoSum, FMA), and rounded once at the end.
+#[derive(Clone, Copy, Debug)]
+struct Dd(f64, f64);
+
+/// (s, e) with s + e = a + b exactly (Knuth's TwoSum).
+fn two_sum(a: f64, b: f64) -> (f64, f64) {
+    let s = a + b;
+    let bb = s - a;
+    (s, (a - (s - bb)) + (b - bb))
+}
+
+impl Dd {
+    const ZERO: Dd = Dd(0.0, 0.0);
+    fn add(self, x: f64) -> Dd {
+        let (s, e) = two_sum(self.0, x);
+        Dd(s, self.1 + e)
     }
-    // A double-double accumulator: hi + lo.
-    #[derive(Clone, Copy)]
-    struct Dd(f64, f64);
-    impl Dd {
-        fn add(self, x: f64) -> Dd {
-            let (s, e) = two_sum(self.0, x);
-            Dd(s, self.1 + e)
-        }
-        // += (a.0 + a.1) (b.0 + b.1), dropping a.1 b.1
-        fn add_product(self, a: (f64, f64), b: (f64, f64)) -> Dd {
-            let p = a.0 * b.0;
-            let e = a.0.mul_add(b.0, -p);
-            let d = self.add(p);
-            Dd(d.0, d.1 + e + a.0 * b.1 + a.1 * b.0)
-        }
+    // += (a.0 + a.1) (b.0 + b.1), dropping a.1 b.1
+    fn add_product(self, a: (f64, f64), b: (f64, f64)) -> Dd {
+        let p = a.0 * b.0;
+        let e = a.0.mul_add(b.0, -p);
+        let d = self.add(p);
+        Dd(d.0, d.1 + e + a.0 * b.1 + a.1 * b.0)
     }
+    fn pair(self) -> (f64, f64) {
+        let (s, e) = two_sum(self.0, self.1);
+        (s, e)
+    }
+    fn value(self) -> f64 {
+        self.0 + self.1
+    }
+}
+
+/// Newell's vector of `v` (as [`newell_normal`]) in double-double.
+fn newell_dd(v: &[Vec3]) -> [Dd; 3] {
     let o = v[0];
     let diff = |x: Vec3| [two_sum(x.x, -o.x), two_sum(x.y, -o.y), two_sum(x.z, -o.z)];
-    let mut acc = [Dd(0.0, 0.0); 3];
+    let mut acc = [Dd::ZERO; 3];
     for i in 1..v.len().saturating_sub(1) {
         let (a, b) = (diff(v[i]), diff(v[i + 1]));
         for (k, (j, l)) in [(1, 2), (2, 0), (0, 1)].into_iter().enumerate() {
@@ -334,7 +345,57 @@ pub fn accurate_normal(v: &[Vec3]) -> Vec3 {
             acc[k] = acc[k].add_product(a[j], b[l]).add_product((-a[l].0, -a[l].1), b[j]);
         }
     }
-    Vec3::new(acc[0].0 + acc[0].1, acc[1].0 + acc[1].1, acc[2].0 + acc[2].1)
+    acc
+}
+
+/// [`newell_normal`] in double-double arithmetic, rounded once at the end: the direction is
+/// accurate to a few eps even for a needle, whose plane in plain arithmetic is known only to
+/// ~eps / sin(its smallest angle) (8e-13 rad for a triangle 2e-5 wide), which tilts
+/// everything measured from that plane.
+pub fn accurate_normal(v: &[Vec3]) -> Vec3 {
+    let n = newell_dd(v);
+    Vec3::new(n[0].value(), n[1].value(), n[2].value())
+}
+
+/// The plane of a polygon for signed heights accurate to a few eps of themselves: Newell's
+/// vector N and the mean of N . v over the vertices, both in double-double. A height
+/// measured in plain arithmetic from a rounded centroid along a rounded normal carries an
+/// error of eps times the coordinates: for two triangles whose planes meet at 1e-9 rad that
+/// is 1e-7 of the heights that place the cut where they pierce each other, and F moved by
+/// 2e-8, differently at each scale of the same pair.
+pub struct AccuratePlane {
+    n: [(f64, f64); 3],
+    offset: (f64, f64),
+    inv_len: f64,
+}
+
+impl AccuratePlane {
+    pub fn of(v: &[Vec3]) -> Self {
+        let n = newell_dd(v).map(Dd::pair);
+        let mut sum = Dd::ZERO;
+        for x in v {
+            for (k, c) in [x.x, x.y, x.z].into_iter().enumerate() {
+                sum = sum.add_product((c, 0.0), n[k]);
+            }
+        }
+        // the mean, sum / m, in double-double
+        let m = v.len() as f64;
+        let (s, e) = sum.pair();
+        let hi = s / m;
+        let lo = ((-hi).mul_add(m, s) + e) / m;
+        let len = Vec3::new(n[0].0, n[1].0, n[2].0).length();
+        AccuratePlane { n, offset: (hi, lo), inv_len: 1.0 / len }
+    }
+
+    /// Signed distance of `x` from the plane (positive on the front side).
+    pub fn height(&self, x: Vec3) -> f64 {
+        let mut acc = Dd::ZERO;
+        for (k, c) in [x.x, x.y, x.z].into_iter().enumerate() {
+            acc = acc.add_product((c, 0.0), self.n[k]);
+        }
+        let acc = acc.add(-self.offset.0);
+        (acc.value() - self.offset.1) * self.inv_len
+    }
 }
 
 /// Largest distance between the bounding-box corners (cheap size measure for tolerances).
@@ -514,6 +575,11 @@ pub fn triangulate(v: &[Vec3], n: Vec3) -> Vec<[usize; 3]> {
 /// Vertices within `tol` (absolute distance) of the plane count as on it, so a polygon that
 /// touches the plane along an edge keeps that edge exactly and grows no slivers.
 pub fn clip_to_halfspace(v: &[Vec3], p: Vec3, n: Vec3, tol: f64, out: &mut Vec<Vec3>) {
+    clip_by_height(v, |x| (x - p).dot(n), tol, out)
+}
+
+/// [`clip_to_halfspace`] for the half-space where `height` (a signed distance) is >= 0.
+pub fn clip_by_height(v: &[Vec3], height: impl Fn(Vec3) -> f64, tol: f64, out: &mut Vec<Vec3>) {
     out.clear();
     let m = v.len();
     if m == 0 {
@@ -521,7 +587,7 @@ pub fn clip_to_halfspace(v: &[Vec3], p: Vec3, n: Vec3, tol: f64, out: &mut Vec<V
     }
     // signed distances, on the stack for the usual small polygons
     let dist = |x: &Vec3| {
-        let s = (*x - p).dot(n);
+        let s = height(*x);
         if s.abs() <= tol {
             0.0
         } else {
@@ -620,8 +686,10 @@ pub fn clip_pair(a: &Polygon, b: &Polygon) -> Option<(Vec<Vec3>, Vec<Vec3>)> {
     let tol_b = plane_tol(b.radius, a.radius + d);
     let mut ca = Vec::with_capacity(a.vertices.len() + 2);
     let mut cb = Vec::with_capacity(b.vertices.len() + 2);
-    clip_to_halfspace(&a.vertices, b.centroid, b.normal, tol_a, &mut ca);
-    clip_to_halfspace(&b.vertices, a.centroid, a.normal, tol_b, &mut cb);
+    // heights accurate to themselves: nearly coplanar pairs are cut where they truly pierce
+    let (plane_a, plane_b) = (AccuratePlane::of(&a.vertices), AccuratePlane::of(&b.vertices));
+    clip_by_height(&a.vertices, |x| plane_b.height(x), tol_a, &mut ca);
+    clip_by_height(&b.vertices, |x| plane_a.height(x), tol_b, &mut cb);
     if ca.len() < 3 || cb.len() < 3 {
         return None;
     }
@@ -830,6 +898,57 @@ pub(crate) mod tests {
         assert!(cb.iter().all(|p| p.z >= -1e-15));
         assert!((0.5 * newell_normal(&ca).length() - 0.5).abs() < 1e-15);
         assert!((0.5 * newell_normal(&cb).length() - 0.5).abs() < 1e-15);
+    }
+
+    /// Two triangles whose planes meet at ~1e-9 rad, piercing each other: the cut on the edges
+    /// in x = 0 lies exactly at (0, e/2, 1/2) (the edges' lines y = e z and y = e (1 - z)
+    /// cross there). Heights from a rounded centroid and normal put it 1e-7 of the edge off,
+    /// by a different amount at each scale.
+    #[test]
+    fn clip_pair_of_nearly_coplanar_piercing_triangles() {
+        let e = 1e-9;
+        for s in [1.0, 0.1, 3.0, 1e-6, 1e3, 1e6] {
+            let tri = |v: [[f64; 3]; 3]| Polygon::new(v.iter().map(|p| Vec3::from_array(*p) * s).collect()).unwrap();
+            let a = tri([[0., 0., 0.], [0., e, 1.], [1., 1., 0.]]);
+            let b = tri([[0., 0., 1.], [0., e, 0.], [1., 1., 0.]]);
+            let want = Vec3::new(0.0, (s * e) / 2.0, s / 2.0);
+            let (ca, cb) = clip_pair(&a, &b).unwrap();
+            for (name, c) in [("a", &ca), ("b", &cb)] {
+                let off = c.iter().map(|x| x.distance(want)).fold(f64::INFINITY, f64::min);
+                assert!(off <= 4.0 * f64::EPSILON * s, "{name} at scale {s}: cut {:e} of the size off", off / s);
+                assert_eq!(c.len(), 3, "{name} at scale {s}: {c:?}");
+            }
+        }
+    }
+
+    /// Heights over an accurate plane against exact integer arithmetic, for points 1e-9 of
+    /// their coordinates off the plane of a triangle: plain arithmetic keeps ~7 digits.
+    #[test]
+    fn accurate_plane_heights_are_exact_to_rounding() {
+        let t: [[i64; 3]; 3] = [[3, -7, 11], [1_000_000_003, 5, -2], [7, 999_999_937, 1_000_013]];
+        let v: Vec<Vec3> = t.iter().map(|p| Vec3::new(p[0] as f64, p[1] as f64, p[2] as f64)).collect();
+        let e = |i: usize, k: usize| (t[i][k] - t[0][k]) as i128;
+        let n = [
+            e(1, 1) * e(2, 2) - e(1, 2) * e(2, 1),
+            e(1, 2) * e(2, 0) - e(1, 0) * e(2, 2),
+            e(1, 0) * e(2, 1) - e(1, 1) * e(2, 0),
+        ];
+        let len = ((n[0] * n[0] + n[1] * n[1] + n[2] * n[2]) as f64).sqrt();
+        let plane = AccuratePlane::of(&v);
+        let tri = Polygon::new(v.clone()).unwrap();
+        let mut plain_worst: f64 = 0.0;
+        // points of the plane (integer combinations of the edges) moved by a unit or two
+        for (k1, k2, d) in [(1, 1, [0, 0, 1]), (2, -1, [1, -2, 0]), (-1, 3, [0, 1, 1]), (1, 0, [-1, 0, 2])] {
+            let x: [i64; 3] =
+                std::array::from_fn(|k| t[0][k] + k1 * (t[1][k] - t[0][k]) + k2 * (t[2][k] - t[0][k]) + d[k]);
+            let h = (0..3).map(|k| (x[k] - t[0][k]) as i128 * n[k]).sum::<i128>();
+            let want = h as f64 / len;
+            let p = Vec3::new(x[0] as f64, x[1] as f64, x[2] as f64);
+            let got = plane.height(p);
+            assert!((got - want).abs() <= 4.0 * f64::EPSILON * want.abs(), "{got:e} {want:e}");
+            plain_worst = plain_worst.max(((p - tri.centroid()).dot(tri.normal()) - want).abs() / want.abs());
+        }
+        assert!(plain_worst > 1e3 * f64::EPSILON, "plain arithmetic is this exact too: {plain_worst:e}");
     }
 
     #[test]

@@ -493,4 +493,47 @@ mod tests {
             assert!(err <= tol, "tol {tol:e}: error {:.2e} x tol", err / tol);
         }
     }
+
+    /// Five triangles, three of them meeting at the origin, and an obstacle that hides nothing
+    /// of the pair (2, 4) but meets its candidate shaft (found by the long property run,
+    /// tests/test_properties.py). Its planes and events took the kink split's budget before
+    /// the events bounding face 1's shadow on the source, whose samples then all missed it:
+    /// G with the obstacle was 19 x tol above G without it at the default 1e-6, 2e5 x at 1e-10.
+    #[test]
+    fn a_blocker_that_hides_nothing_changes_nothing() {
+        let raw: [[[f64; 3]; 3]; 6] = [
+            [[0.0, 0.0, -0.9183000178616898], [0.07784021009514253, -6.103515625e-05, 1e-06], [0.0, 0.0, 0.0]],
+            [
+                [0.0, -0.5930926454802722, 0.0],
+                [0.8475588492730055, 1.0, -0.9999999999999999],
+                [-0.2817396404840452, 0.0, 0.0],
+            ],
+            [
+                [-0.30728178508762116, 0.5026774268139946, -0.5028193694817119],
+                [-0.6735001221246235, 0.38018211373110433, -0.21899995206542422],
+                [0.9642884296069125, -0.6243695794420064, 0.3960201558226586],
+            ],
+            [[0.0, 0.0, 0.0], [0.0, 0.0, 0.5034272081510975], [-0.6123773118071852, 0.0, 0.0]],
+            [
+                [0.0, 0.0, 0.0],
+                [0.23382799420095446, 0.8206183018393673, 0.0],
+                [0.6898160178747967, -0.16391906316336136, 0.5026774268139946],
+            ],
+            [[0.0, 0.0, -1.0], [0.0, 1.0, -0.9999999999999999], [0.0, -0.3356597410784897, 0.0]],
+        ];
+        let all: Vec<Polygon> =
+            raw.iter().map(|p| Polygon::new(p.iter().map(|&v| Vec3::from_array(v)).collect()).unwrap()).collect();
+        let free = method::area_factor(&all[2], &all[4], Method::Analytic, &Default::default(), None).unwrap();
+        let g = |polys: &[Polygon], i: usize, j: usize, tol: f64| {
+            clipping(polys, i, j, &VisOptions { tol, max_evals: 2_000_000, ..Default::default() })
+        };
+        let reference = g(&all[..5], 4, 2, 1e-10);
+        assert!(reference < 0.99 * free, "hidden fraction {}", 1.0 - reference / free);
+        for tol in [1e-4, 1e-6, 1e-8] {
+            for (polys, i, j) in [(&all[..], 2, 4), (&all[..], 4, 2), (&all[..5], 2, 4)] {
+                let err = (g(polys, i, j, tol) - reference).abs() / free;
+                assert!(err <= tol, "{} polygons, ({i}, {j}), tol {tol:e}: error {:.2e} x tol", polys.len(), err / tol);
+            }
+        }
+    }
 }

@@ -4,8 +4,13 @@
 use super::rules::area3;
 use crate::geometry::{clip_to_halfspace, Polygon, Vec3};
 
-/// Most pieces the kink split may cut a source into.
-pub(super) const MAX_KINK_PIECES: usize = 64;
+/// Most pieces the kink split may cut a source into (the planes after it are not cut). At 64
+/// the planes of a blocker whose shadow lay inside another's spent it before the events that
+/// bound that other shadow on the source, whose samples then all missed it: 19 x tol at the
+/// default 1e-6 (`a_blocker_that_hides_nothing_changes_nothing`). 1552 pairs of a tiled room
+/// with two crates took 1.11-1.25 s CPU at 128 against 1.15-1.20 s at 64 (the same within
+/// the host's noise).
+pub(super) const MAX_KINK_PIECES: usize = 128;
 
 /// The source's triangles, cut along the lines where the visible-region F has a kink that
 /// the dyadic refinement would otherwise chase without end (an O(h^2) error instead of the
