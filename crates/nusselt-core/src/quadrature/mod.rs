@@ -1,8 +1,10 @@
-//! Quadrature rules: 1-D Gauss tables ([`gauss`]) and area rules on polygons ([`area_rules`],
-//! also the normalised source points of the row methods).
+//! Quadrature rules: 1-D Gauss tables ([`gauss`]), area rules on polygons ([`area_rules`],
+//! also the normalised source points of the row methods) and adaptive refinement
+//! ([`adaptive`]: the triangle split and the local refinement loop).
 //! The kernels that use them live with their methods (`unobstructed::far_field`,
 //! `obstructed::rules`, `hemisphere`).
 
+pub mod adaptive;
 pub mod area_rules;
 pub mod gauss;
 

@@ -23,6 +23,7 @@
 
 use super::lambert::point_contour_terms;
 use crate::geometry::{accurate_normal, bounding_diameter, segment_distance, Vec3};
+use crate::quadrature::adaptive::{refine_locally, split_in_four, Step};
 use crate::quadrature::{gauss_legendre, triangle_rule};
 use std::cell::Cell;
 
@@ -388,34 +389,33 @@ fn adaptive_gauss(
             (v + (b - a) * w * fv, m + (b - a) * w * fm)
         })
     };
-    let mut work: Vec<(f64, f64, (f64, f64))> = pieces.iter().map(|&(a, b)| (a, b, gauss(a, b))).collect();
+    let work: Vec<(f64, f64, (f64, f64))> = pieces.iter().map(|&(a, b)| (a, b, gauss(a, b))).collect();
     let first: f64 = work.iter().map(|w| w.2 .0).sum();
     if !first.is_finite() {
         return None;
     }
     let (mut sum, mut mag) = (0.0, 0.0);
-    while let Some((a, b, whole)) = work.pop() {
+    let finished = refine_locally(work, |(a, b, whole)| {
         let m = 0.5 * (a + b);
         let (l, r) = (gauss(a, m), gauss(m, b));
         let (parts, parts_mag) = (l.0 + r.0, l.1 + r.1);
         if !parts.is_finite() {
-            return None;
+            return Step::GiveUp;
         }
         if (parts - whole.0).abs() <= (LINE_TOL * first.abs()).max(floor).max(LINE_NOISE * parts_mag)
             || !(a < m && m < b)
         {
             sum += parts;
             mag += parts_mag;
-            continue;
+            return Step::Done;
         }
         if budget.get() == 0 {
-            return None;
+            return Step::GiveUp;
         }
         budget.set(budget.get() - 1);
-        work.push((a, m, l));
-        work.push((m, b, r));
-    }
-    Some((sum, mag))
+        Step::Split([(a, m, l), (m, b, r)])
+    });
+    finished.then_some((sum, mag))
 }
 
 /// Order per direction of the triangle rule in `adaptive_area`.
@@ -474,12 +474,8 @@ fn adaptive_area(src: &[Vec3], n_src: Vec3, f: impl Fn(Vec3) -> (f64, f64), rel_
             (acc + w * v, mag + w.abs() * m)
         })
     };
-    let split = |t: &[Vec3; 3]| -> [[Vec3; 3]; 4] {
-        let (ab, bc, ca) = (0.5 * (t[0] + t[1]), 0.5 * (t[1] + t[2]), 0.5 * (t[2] + t[0]));
-        [[t[0], ab, ca], [ab, t[1], bc], [ca, bc, t[2]], [ab, bc, ca]]
-    };
     // Signed fan: exact for concave outlines too, the integrand being analytic on the hull.
-    let mut work: Vec<([Vec3; 3], f64, f64)> = (1..src.len().saturating_sub(1))
+    let work: Vec<([Vec3; 3], f64, f64)> = (1..src.len().saturating_sub(1))
         .map(|k| {
             let t = [src[0], src[k], src[k + 1]];
             let twice = (t[1] - t[0]).cross(t[2] - t[0]).dot(n_src);
@@ -497,8 +493,8 @@ fn adaptive_area(src: &[Vec3], n_src: Vec3, f: impl Fn(Vec3) -> (f64, f64), rel_
     let negligible = rel_tol * total / (4 * MAX_TRIANGLES) as f64;
     let mut sum = 0.0;
     let mut refined = 0;
-    while let Some((t, twice, whole)) = work.pop() {
-        let kids = split(&t);
+    let finished = refine_locally(work, |(t, twice, whole)| {
+        let kids = split_in_four(&t);
         let vals = kids.map(|k| tri(&k, 0.25 * twice));
         let parts: f64 = vals.iter().map(|v| v.0).sum();
         let noise: f64 = vals.iter().map(|v| v.1).sum::<f64>() * NOISE_EPS;
@@ -507,17 +503,15 @@ fn adaptive_area(src: &[Vec3], n_src: Vec3, f: impl Fn(Vec3) -> (f64, f64), rel_
         // cannot tell more), or by a negligible amount.
         if (parts - whole).abs() <= (rel_tol * total * share).max(noise).max(negligible) {
             sum += parts;
-            continue;
+            return Step::Done;
         }
         refined += 1;
         if refined > MAX_TRIANGLES {
-            return None;
+            return Step::GiveUp;
         }
-        for (k, v) in kids.into_iter().zip(vals) {
-            work.push((k, 0.25 * twice, v.0));
-        }
-    }
-    (sum > 0.0).then_some(sum)
+        Step::Split([0, 1, 2, 3].map(|c| (kids[c], 0.25 * twice, vals[c].0)))
+    });
+    (finished && sum > 0.0).then_some(sum)
 }
 
 #[cfg(test)]
