@@ -4,6 +4,7 @@
 use super::rules::{area3, centroid3, radon7, rule_integral};
 use super::VisOptions;
 use crate::geometry::{plane_chord, Polygon, Vec3};
+use crate::quadrature::adaptive::split_in_four;
 
 /// How far the blockers keep from the plane of `p`, relative to p's size: the least height of
 /// a blocker vertex in front of it, 0 for a blocker that crosses the plane. A vertex within
@@ -196,12 +197,6 @@ pub(super) fn adaptive_over_source(
             self.err.total_cmp(&o.err)
         }
     }
-    let split = |t: &[Vec3; 3]| {
-        let m01 = 0.5 * (t[0] + t[1]);
-        let m12 = 0.5 * (t[1] + t[2]);
-        let m20 = 0.5 * (t[2] + t[0]);
-        [[t[0], m01, m20], [m01, t[1], m12], [m20, m12, t[2]], [m01, m12, m20]]
-    };
     // [methods] cancelled or over budget: no more evaluations (each casts every active
     // blocker: 10 000 of them cost milliseconds; the result is discarded, see crate::work)
     let f = |x: Vec3, bl: &[&Polygon]| if crate::work::go_on() { f(x, bl) } else { 0.0 };
@@ -229,7 +224,7 @@ pub(super) fn adaptive_over_source(
             }
             v
         };
-        let k = split(&l.t);
+        let k = split_in_four(&l.t);
         let kids = [0, 1, 2, 3].map(|i| rule_integral(&rule, &k[i], &g));
         evals.set(evals.get() + 4 * rule.len());
         // [methods] work budget: one unit per shadow evaluation and blocker
@@ -294,7 +289,7 @@ pub(super) fn adaptive_over_source(
             done.push(worst);
             continue;
         }
-        for (k, whole) in split(&worst.t).into_iter().zip(kids) {
+        for (k, whole) in split_in_four(&worst.t).into_iter().zip(kids) {
             let mut active = Vec::new();
             test.active(&k, &worst.active, &mut active);
             if active.is_empty() {
