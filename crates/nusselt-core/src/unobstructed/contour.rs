@@ -405,51 +405,15 @@ mod tests {
         }
     }
 
-    /// Perpendicular rectangles in aligned position (docs/algorithms.md §8.2 row 9, Howell
-    /// section C): A1 = [x1,x2]x[y1,y2] at z = 0, A2 at x = 0 with y in [η1,η2], z in [ξ1,ξ2].
+    /// Perpendicular rectangles in aligned position (the closed form, docs/algorithms.md §8.2
+    /// row 9): A1 = [x1,x2]x[y1,y2] at z = 0, A2 at x = 0 with y in [η1,η2], z in [ξ1,ξ2].
     fn perp_general(x: [f64; 2], y: [f64; 2], eta: [f64; 2], xi: [f64; 2]) -> f64 {
-        let g = |x: f64, y: f64, e: f64, k: f64| {
-            let (r2, d) = (x * x + k * k, y - e);
-            let r = r2.sqrt();
-            let t1 = if r > 0.0 { d * r * (d / r).atan() } else { 0.0 };
-            let q = r2 + d * d;
-            let t2 = if q > 0.0 { 0.25 * (r2 - d * d) * q.ln() } else { 0.0 };
-            (t1 - t2) / (2.0 * PI)
-        };
-        let mut s = 0.0;
-        for i in 0..2 {
-            for j in 0..2 {
-                for k in 0..2 {
-                    for l in 0..2 {
-                        let sign = if (i + j + k + l) % 2 == 0 { 1.0 } else { -1.0 };
-                        s += sign * g(x[i], y[j], eta[k], xi[l]);
-                    }
-                }
-            }
-        }
-        s / ((x[1] - x[0]) * (y[1] - y[0]))
+        crate::unobstructed::analytic::closed_forms::perpendicular_rectangles_general(x, y, eta, xi).unwrap()
     }
 
-    /// Parallel rectangles in aligned position (docs/algorithms.md §8.2 row 8).
+    /// Parallel rectangles in aligned position (the closed form, docs/algorithms.md §8.2 row 8).
     fn parallel_general(x: [f64; 2], y: [f64; 2], xi: [f64; 2], eta: [f64; 2], z: f64) -> f64 {
-        let g = |x: f64, y: f64, e: f64, k: f64| {
-            let (dx, dy) = (x - k, y - e);
-            let (rx, ry) = ((dx * dx + z * z).sqrt(), (dy * dy + z * z).sqrt());
-            (dy * rx * (dy / rx).atan() + dx * ry * (dx / ry).atan() - 0.5 * z * z * (dx * dx + dy * dy + z * z).ln())
-                / (2.0 * PI)
-        };
-        let mut s = 0.0;
-        for i in 0..2 {
-            for j in 0..2 {
-                for k in 0..2 {
-                    for l in 0..2 {
-                        let sign = if (i + j + k + l) % 2 == 0 { 1.0 } else { -1.0 };
-                        s += sign * g(x[i], y[j], eta[k], xi[l]);
-                    }
-                }
-            }
-        }
-        s / ((x[1] - x[0]) * (y[1] - y[0]))
+        crate::unobstructed::analytic::closed_forms::parallel_rectangles_general(x, y, xi, eta, z).unwrap()
     }
 
     #[test]

@@ -22,13 +22,14 @@ fn finite(name: &str, v: f64) -> Result<f64> {
     }
 }
 
-fn interval(lo_name: &str, lo: f64, hi_name: &str, hi: f64) -> Result<()> {
-    finite(lo_name, lo)?;
-    finite(hi_name, hi)?;
+/// Checks the coordinate interval `name` = [lo, hi]: finite, lo < hi.
+fn interval(name: &str, [lo, hi]: [f64; 2]) -> Result<()> {
+    finite(name, lo)?;
+    finite(name, hi)?;
     if hi > lo {
         Ok(())
     } else {
-        Err(Error::InvalidArgument(format!("need {lo_name} < {hi_name}, got {lo} and {hi}")))
+        Err(Error::InvalidArgument(format!("need {name} = [lo, hi] with lo < hi, got [{lo}, {hi}]")))
     }
 }
 
@@ -112,22 +113,10 @@ pub fn perpendicular_rectangles(l: f64, w: f64, h: f64) -> Result<f64> {
 /// G = (1/2pi)[ (y-eta) sqrt((x-xi)^2+z^2) atan((y-eta)/sqrt((x-xi)^2+z^2))
 ///            + (x-xi) sqrt((y-eta)^2+z^2) atan((x-xi)/sqrt((y-eta)^2+z^2))
 ///            - (z^2/2) ln((x-xi)^2 + (y-eta)^2 + z^2) ].
-#[allow(clippy::too_many_arguments)]
-pub fn parallel_rectangles_general(
-    x1: f64,
-    x2: f64,
-    y1: f64,
-    y2: f64,
-    xi1: f64,
-    xi2: f64,
-    eta1: f64,
-    eta2: f64,
-    z: f64,
-) -> Result<f64> {
-    interval("x1", x1, "x2", x2)?;
-    interval("y1", y1, "y2", y2)?;
-    interval("xi1", xi1, "xi2", xi2)?;
-    interval("eta1", eta1, "eta2", eta2)?;
+pub fn parallel_rectangles_general(x: [f64; 2], y: [f64; 2], xi: [f64; 2], eta: [f64; 2], z: f64) -> Result<f64> {
+    for (name, iv) in [("x", x), ("y", y), ("xi", xi), ("eta", eta)] {
+        interval(name, iv)?;
+    }
     let z = positive("z", z)?;
     let g = |x: f64, y: f64, eta: f64, xi: f64| {
         let (u, v) = (x - xi, y - eta);
@@ -135,7 +124,7 @@ pub fn parallel_rectangles_general(
         let sv = (v * v + z * z).sqrt();
         (v * su * (v / su).atan() + u * sv * (u / sv).atan() - 0.5 * z * z * (u * u + v * v + z * z).ln()) / (2.0 * PI)
     };
-    Ok(corner_sum([x1, x2], [y1, y2], [eta1, eta2], [xi1, xi2], g) / ((x2 - x1) * (y2 - y1)))
+    Ok(corner_sum(x, y, eta, xi, g) / ((x[1] - x[0]) * (y[1] - y[0])))
 }
 
 /// Σ (-1)^(i+j+k+l) g(x_i, y_j, eta_k, xi_l) over the 16 corners of two aligned rectangles'
@@ -162,24 +151,14 @@ fn corner_sum(x: [f64; 2], y: [f64; 2], eta: [f64; 2], xi: [f64; 2], g: impl Fn(
 /// G = (1/2pi)[ (y-eta) sqrt(x^2+xi^2) atan((y-eta)/sqrt(x^2+xi^2))
 ///            - (1/4)(x^2 + xi^2 - (y-eta)^2) ln(x^2 + xi^2 + (y-eta)^2) ],
 /// terms with a zero argument taken as their limit 0.
-#[allow(clippy::too_many_arguments)]
-pub fn perpendicular_rectangles_general(
-    x1: f64,
-    x2: f64,
-    y1: f64,
-    y2: f64,
-    eta1: f64,
-    eta2: f64,
-    xi1: f64,
-    xi2: f64,
-) -> Result<f64> {
-    interval("x1", x1, "x2", x2)?;
-    interval("y1", y1, "y2", y2)?;
-    interval("eta1", eta1, "eta2", eta2)?;
-    interval("xi1", xi1, "xi2", xi2)?;
-    if x1 < 0.0 || xi1 < 0.0 {
+pub fn perpendicular_rectangles_general(x: [f64; 2], y: [f64; 2], eta: [f64; 2], xi: [f64; 2]) -> Result<f64> {
+    for (name, iv) in [("x", x), ("y", y), ("eta", eta), ("xi", xi)] {
+        interval(name, iv)?;
+    }
+    if x[0] < 0.0 || xi[0] < 0.0 {
         return Err(Error::InvalidArgument(format!(
-            "both rectangles must lie on the front side of the other (x1 >= 0 and xi1 >= 0), got {x1} and {xi1}"
+            "both rectangles must lie on the front side of the other (x1 >= 0 and xi1 >= 0), got {} and {}",
+            x[0], xi[0]
         )));
     }
     let g = |x: f64, y: f64, eta: f64, xi: f64| {
@@ -191,7 +170,7 @@ pub fn perpendicular_rectangles_general(
         let b = if r2 > 0.0 { 0.25 * (s2 - v * v) * r2.ln() } else { 0.0 };
         (a - b) / (2.0 * PI)
     };
-    Ok(corner_sum([x1, x2], [y1, y2], [eta1, eta2], [xi1, xi2], g) / ((x2 - x1) * (y2 - y1)))
+    Ok(corner_sum(x, y, eta, xi, g) / ((x[1] - x[0]) * (y[1] - y[0])))
 }
 
 /// Differential area parallel to a rectangle `a` x `b` whose corner lies on the element's
@@ -371,20 +350,20 @@ mod tests {
 
     #[test]
     fn general_rectangles_against_quadrature() {
-        let f = parallel_rectangles_general(0.0, 1.0, 0.0, 2.0, 0.5, 2.0, -0.5, 1.0, 0.7).unwrap();
+        let f = parallel_rectangles_general([0.0, 1.0], [0.0, 2.0], [0.5, 2.0], [-0.5, 1.0], 0.7).unwrap();
         let recv = rect_xy((0.5, 2.0), (-0.5, 1.0), 0.7, false);
         let q = lambert_integral((0.0, 1.0), (0.0, 2.0), &recv, 60, 0);
         assert!((f - q).abs() < 1e-12 * q, "{f} {q}");
         assert!((f - 0.201845405433).abs() < 1e-12);
 
-        let f = perpendicular_rectangles_general(0.3, 1.3, 0.0, 2.0, 0.5, 1.5, 0.2, 1.0).unwrap();
+        let f = perpendicular_rectangles_general([0.3, 1.3], [0.0, 2.0], [0.5, 1.5], [0.2, 1.0]).unwrap();
         let recv =
             vec![Vec3::new(0., 0.5, 0.2), Vec3::new(0., 1.5, 0.2), Vec3::new(0., 1.5, 1.0), Vec3::new(0., 0.5, 1.0)];
         let q = lambert_integral((0.3, 1.3), (0.0, 2.0), &recv, 60, 0);
         assert!((f - q).abs() < 1e-12 * q, "{f} {q}");
         assert!((f - 0.072571586221).abs() < 1e-12);
         // touching (x1 = xi1 = 0, overlapping y): the zero-argument limits are exercised
-        let f = perpendicular_rectangles_general(0.0, 1.0, 0.0, 1.0, 0.0, 1.0, 0.0, 1.0).unwrap();
+        let f = perpendicular_rectangles_general([0.0, 1.0], [0.0, 1.0], [0.0, 1.0], [0.0, 1.0]).unwrap();
         assert!((f - perpendicular_rectangles(1.0, 1.0, 1.0).unwrap()).abs() < 1e-14);
     }
 
@@ -425,10 +404,10 @@ mod tests {
         assert!(coaxial_disks(1.0, -1.0, 1.0).is_err());
         assert!(parallel_rectangles(1.0, 1.0, f64::INFINITY).is_err());
         assert!(perpendicular_rectangles(0.0, 1.0, 1.0).is_err());
-        assert!(parallel_rectangles_general(1.0, 0.0, 0.0, 1.0, 0.0, 1.0, 0.0, 1.0, 1.0).is_err());
-        assert!(parallel_rectangles_general(0.0, 1.0, 0.0, 1.0, 0.0, 1.0, 0.0, 1.0, 0.0).is_err());
-        assert!(perpendicular_rectangles_general(-1.0, 1.0, 0.0, 1.0, 0.0, 1.0, 0.0, 1.0).is_err());
-        assert!(perpendicular_rectangles_general(0.0, 1.0, 0.0, f64::NAN, 0.0, 1.0, 0.0, 1.0).is_err());
+        assert!(parallel_rectangles_general([1.0, 0.0], [0.0, 1.0], [0.0, 1.0], [0.0, 1.0], 1.0).is_err());
+        assert!(parallel_rectangles_general([0.0, 1.0], [0.0, 1.0], [0.0, 1.0], [0.0, 1.0], 0.0).is_err());
+        assert!(perpendicular_rectangles_general([-1.0, 1.0], [0.0, 1.0], [0.0, 1.0], [0.0, 1.0]).is_err());
+        assert!(perpendicular_rectangles_general([0.0, 1.0], [0.0, f64::NAN], [0.0, 1.0], [0.0, 1.0]).is_err());
         assert!(point_rectangle_corner_parallel(1.0, 1.0, -1.0).is_err());
         assert!(point_rectangle_corner_perpendicular(1.0, 0.0, 1.0).is_err());
     }

@@ -730,12 +730,12 @@ mod tests {
         // 8.2 row 8 and row 9, against the closed forms (themselves checked by quadrature).
         let a = rect(Vec3::ZERO, Vec3::X, Vec3::Y * 2.0);
         let b = rect(Vec3::new(0.5, -0.5, 0.7), Vec3::Y * 1.5, Vec3::X * 1.5);
-        let want = cf::parallel_rectangles_general(0.0, 1.0, 0.0, 2.0, 0.5, 2.0, -0.5, 1.0, 0.7).unwrap();
+        let want = cf::parallel_rectangles_general([0.0, 1.0], [0.0, 2.0], [0.5, 2.0], [-0.5, 1.0], 0.7).unwrap();
         assert!(rel(f_ab(&a, &b), want) < 1e-12);
         assert!((f_ab(&a, &b) - 0.201845405433).abs() < 1e-12);
         let a = rect(Vec3::X * 0.3, Vec3::X, Vec3::Y * 2.0);
         let b = rect(Vec3::new(0.0, 0.5, 0.2), Vec3::Y, Vec3::Z * 0.8);
-        let want = cf::perpendicular_rectangles_general(0.3, 1.3, 0.0, 2.0, 0.5, 1.5, 0.2, 1.0).unwrap();
+        let want = cf::perpendicular_rectangles_general([0.3, 1.3], [0.0, 2.0], [0.5, 1.5], [0.2, 1.0]).unwrap();
         assert!(rel(f_ab(&a, &b), want) < 1e-12);
         assert!((f_ab(&a, &b) - 0.072571586221).abs() < 1e-12);
         // docs/algorithms.md §1.4: A2 in x = 0.5 (facing -x) pierces A1's plane. Only x <= 0.5 of
@@ -743,7 +743,7 @@ mod tests {
         let a = rect(Vec3::ZERO, Vec3::X, Vec3::Y);
         let b = rect(Vec3::new(0.5, 0.0, -0.5), Vec3::Z, Vec3::Y);
         assert!((b.normal() + Vec3::X).length() < 1e-15);
-        let want = 0.5 * cf::perpendicular_rectangles_general(0.0, 0.5, 0.0, 1.0, 0.0, 1.0, 0.0, 0.5).unwrap();
+        let want = 0.5 * cf::perpendicular_rectangles_general([0.0, 0.5], [0.0, 1.0], [0.0, 1.0], [0.0, 0.5]).unwrap();
         let f = f_ab(&a, &b);
         assert!(rel(f, want) < 1e-12, "{f} {want}");
         assert!((f - 0.120318).abs() < 1e-6);
