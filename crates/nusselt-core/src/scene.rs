@@ -504,32 +504,18 @@ pub fn point_view_factor(
     m: AnyMethod,
     o: &AllOptions,
 ) -> Result<Estimate> {
-    let e = point_estimate(p, n, b, obstacles, m, o)?;
-    Ok(Estimate { value: e.value.clamp(0.0, 1.0), ..e })
-}
-
-fn point_estimate(
-    p: Vec3,
-    n: Vec3,
-    b: Polygon,
-    obstacles: Vec<Polygon>,
-    m: AnyMethod,
-    o: &AllOptions,
-) -> Result<Estimate> {
     o.check()?;
     if !p.is_finite() || !n.is_finite() || !((n.length() - 1.0).abs() < 1e-6) {
         return Err(Error::InvalidArgument("point and unit normal must be finite".into()));
     }
-    match m {
-        AnyMethod::Exact(mm) if obstacles.is_empty() => {
-            Ok(Estimate::exact(method::point_factor(p, n, &b, mm, &o.exact)?))
-        }
+    let e = match m {
+        AnyMethod::Exact(mm) if obstacles.is_empty() => Estimate::exact(method::point_factor(p, n, &b, mm, &o.exact)?),
         AnyMethod::Exact(_) | AnyMethod::Visible(_) => {
             let vm = if let AnyMethod::Visible(vm) = m { vm } else { VisMethod::Clipping };
             let scene = scene_of(vec![b], obstacles, None)?;
             let ctx = scene.context()?;
             let what = || format!("method {:?}: the point", crate::registry::name_of(m));
-            work::metered(o.budget, what, || obstructed::point(&ctx, p, n, 0, vm, &o.vis))
+            work::metered(o.budget, what, || obstructed::point(&ctx, p, n, 0, vm, &o.vis))?
         }
         AnyMethod::Row(rm) => {
             // The point becomes a tiny source patch sampled at its centroid (= p).
@@ -546,9 +532,10 @@ fn point_estimate(
             o.hemicube.source = SourcePoints::Centre;
             o.single_plane.source = SourcePoints::Centre;
             o.nusselt.source = SourcePoints::Centre;
-            row_entry_of(tri, b, obstacles, rm, &o)
+            row_entry_of(tri, b, obstacles, rm, &o)?
         }
-    }
+    };
+    Ok(Estimate { value: e.value.clamp(0.0, 1.0), ..e })
 }
 
 fn row_entry(row: &RowResult, j: u32) -> Estimate {
