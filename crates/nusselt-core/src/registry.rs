@@ -639,6 +639,13 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(e.contains("even"), "{e}");
+        // a row method's Gauss source points are held to its `source` range
+        let hi = spec_of("hemicube", "source").hi as u32;
+        let gauss = |k| HemicubeOptions { source: SourcePoints::Gauss(k), ..std::default::Default::default() };
+        assert!(gauss(hi).check().is_ok());
+        let e = gauss(hi + 1).check().unwrap_err().to_string();
+        assert!(e.contains("hemicube") && e.contains("source") && e.contains("outside"), "{e}");
+        assert!(gauss(0).check().unwrap_err().to_string().contains("k >= 1"));
         let e = configure("hemicube", &[("resolution".into(), Value::Int(131))]).unwrap_err().to_string();
         assert!(e.contains("hemicube") && e.contains("even"), "{e}");
         let vis = crate::obstructed::VisOptions { order: 33, ..std::default::Default::default() };

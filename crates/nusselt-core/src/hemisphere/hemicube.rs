@@ -76,7 +76,7 @@ impl HemicubeOptions {
         if !(self.near > 0.0 && self.near <= 0.1) {
             return Err(Error::InvalidArgument(format!("hemicube near must be in (0, 0.1], got {}", self.near)));
         }
-        self.source.check()
+        self.source.check("hemicube")
     }
 }
 

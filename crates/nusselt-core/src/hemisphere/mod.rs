@@ -102,13 +102,16 @@ pub const MAX_SOURCE_POINTS: u32 = 4096;
 pub const MAX_GAUSS_ORDER: u32 = 16;
 
 impl SourcePoints {
-    pub(crate) fn check(&self) -> Result<()> {
+    /// Checks the points as the `source` option of row method `method`: a Gauss order in
+    /// that option's range in the registry (0 there means [`SourcePoints::Centre`]).
+    pub(crate) fn check(&self, method: &str) -> Result<()> {
         if let SourcePoints::Gauss(k) = *self {
-            if k == 0 || k > MAX_GAUSS_ORDER {
+            if k == 0 {
                 return Err(Error::InvalidArgument(format!(
-                    "source points: Gauss order {k} is out of range 1..={MAX_GAUSS_ORDER}"
+                    "method {method:?}: source points: a Gauss rule needs k >= 1 (use Centre)"
                 )));
             }
+            crate::registry::check_field(method, "source", crate::registry::Value::Int(k.into()))?;
         }
         if let SourcePoints::Points(n) = *self {
             if n == 0 || n > MAX_SOURCE_POINTS {

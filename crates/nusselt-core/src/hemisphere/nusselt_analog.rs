@@ -55,7 +55,7 @@ impl Default for NusseltOptions {
 impl NusseltOptions {
     pub fn check(&self) -> Result<()> {
         check_field("nusselt", "cells", Value::Int(self.cells.into()))?;
-        self.source.check()
+        self.source.check("nusselt")
     }
     /// Cells per side of the square grid: s = round(sqrt(cells)), at least 1.
     pub fn side(&self) -> u32 {

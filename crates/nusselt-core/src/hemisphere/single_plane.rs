@@ -79,7 +79,7 @@ impl SinglePlaneOptions {
         if !(self.near > 0.0 && self.near <= 0.1) {
             return Err(Error::InvalidArgument(format!("single-plane near must be in (0, 0.1], got {}", self.near)));
         }
-        self.source.check()
+        self.source.check("single-plane")
     }
 
     /// Fraction of the hemisphere the plane captures: 4 Phi(a, a).
