@@ -279,26 +279,44 @@ mod tests {
         assert!((t.m[1] + 1.0 / 36.0).abs() < 1e-15, "xy = {}", t.m[1]);
     }
 
-    #[test]
-    fn moment_rule_converges_at_fourth_order_for_squares() {
-        // fixed centres, shrinking squares: the error of a parallelogram pair falls as h⁴
-        // (a 16-fold drop per halving), the centroid rule's as h²; reference: Gauss order 24
+    type Rule = fn(&Moments, &Moments) -> f64;
+
+    /// The relative error of `rule` on the pairs `pair(h)` for the shrinking sizes `hs`
+    /// (fixed centres; reference: Gauss order 24) falls by a factor in `drop` per halving, is
+    /// below the `coarser` rule's by more than `margin`, and the rule is symmetric.
+    fn assert_converges(
+        hs: [f64; 3],
+        pair: impl Fn(f64) -> (Polygon, Polygon),
+        rule: Rule,
+        coarser: Rule,
+        margin: f64,
+        drop: (f64, f64),
+    ) {
         let mut prev: Option<f64> = None;
-        for h in [0.05, 0.025, 0.0125] {
-            let a = square(Vec3::ZERO, Vec3::X, Vec3::Y, h);
-            let b = square(Vec3::new(0.3, 0.2, 0.5), (Vec3::Y + Vec3::Z).normalize(), Vec3::X, h);
+        for h in hs {
+            let (a, b) = pair(h);
             let (ma, mb) = (Moments::new(&a), Moments::new(&b));
             let r = reference_aff(&a, &b, 24);
-            let e = (moment_pair(&ma, &mb) - r).abs() / r;
-            let e1 = (centroid_pair(&ma, &mb) - r).abs() / r;
-            assert!(e < e1 / 50.0, "h {h}: moment {e:.1e} vs centroid {e1:.1e}");
+            let e = (rule(&ma, &mb) - r).abs() / r;
+            let e_coarse = (coarser(&ma, &mb) - r).abs() / r;
+            assert!(e < e_coarse / margin, "h {h}: {e:.1e} vs the coarser rule's {e_coarse:.1e}");
             if let Some(p) = prev {
-                assert!(p / e > 12.0 && p / e < 20.0, "h {h}: ratio {}", p / e);
+                assert!(p / e > drop.0 && p / e < drop.1, "h {h}: ratio {}", p / e);
             }
             prev = Some(e);
-            // symmetric in its arguments
-            assert!((moment_pair(&ma, &mb) - moment_pair(&mb, &ma)).abs() <= 1e-14 * r);
+            assert!((rule(&ma, &mb) - rule(&mb, &ma)).abs() <= 1e-14 * r);
         }
+    }
+
+    #[test]
+    fn moment_rule_converges_at_fourth_order_for_squares() {
+        // squares: the error of a parallelogram pair falls as h⁴ (a 16-fold drop per
+        // halving), the centroid rule's as h²
+        let pair = |h| {
+            let a = square(Vec3::ZERO, Vec3::X, Vec3::Y, h);
+            (a, square(Vec3::new(0.3, 0.2, 0.5), (Vec3::Y + Vec3::Z).normalize(), Vec3::X, h))
+        };
+        assert_converges([0.05, 0.025, 0.0125], pair, moment_pair, centroid_pair, 50.0, (12.0, 20.0));
     }
 
     fn parallelogram(c: Vec3, e1: Vec3, e2: Vec3) -> Polygon {
@@ -308,32 +326,23 @@ mod tests {
 
     #[test]
     fn fourth_order_rule_converges_at_sixth_order_for_parallelograms() {
-        // fixed centres, shrinking parallelograms in general position (skewed, unequal sides,
-        // oblique planes): the fourth-order rule's error falls as h⁶ (64-fold per halving),
-        // far below the second-order rule's; reference: Gauss order 24
+        // parallelograms in general position (skewed, unequal sides, oblique planes): the
+        // fourth-order rule's error falls as h⁶ (64-fold per halving), far below the
+        // second-order rule's
         let (u, v) = (Vec3::new(1.0, 0.3, -0.2).normalize(), Vec3::new(-0.1, 0.8, 0.5).normalize());
         let w = Vec3::new(0.4, -0.3, 1.0).normalize();
         let w1 = w.cross(Vec3::new(0.2, 1.0, 0.1)).normalize();
         let w2 = w.cross(w1);
-        let mut prev: Option<f64> = None;
-        for h in [0.08, 0.04, 0.02] {
+        let pair = |h| {
             let a = parallelogram(Vec3::ZERO, u * h, (u * 0.4 + v * 0.8) * h);
             let mut b = parallelogram(Vec3::new(0.2, -0.1, 0.6), w1 * (1.3 * h), (w2 * 0.9 - w1 * 0.3) * h);
             if b.normal().dot(a.centroid() - b.centroid()) < 0.0 {
                 b = Polygon::new(b.vertices().iter().rev().copied().collect()).unwrap();
             }
             assert_eq!(crate::unobstructed::method::facing(&a, &b), crate::unobstructed::method::Facing::Full);
-            let (ma, mb) = (Moments::new(&a), Moments::new(&b));
-            let r = reference_aff(&a, &b, 24);
-            let e4 = (moment4_pair(&ma, &mb) - r).abs() / r;
-            let e2 = (moment_pair(&ma, &mb) - r).abs() / r;
-            assert!(e4 < e2 / 30.0, "h {h}: fourth order {e4:.1e} vs second {e2:.1e}");
-            if let Some(p) = prev {
-                assert!(p / e4 > 45.0 && p / e4 < 90.0, "h {h}: ratio {}", p / e4);
-            }
-            prev = Some(e4);
-            assert!((moment4_pair(&ma, &mb) - moment4_pair(&mb, &ma)).abs() <= 1e-14 * r);
-        }
+            (a, b)
+        };
+        assert_converges([0.08, 0.04, 0.02], pair, moment4_pair, moment_pair, 30.0, (45.0, 90.0));
     }
 
     #[test]
