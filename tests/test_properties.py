@@ -12,7 +12,9 @@ The default run is derandomized with a small budget; the long run (10 000 cases 
 ``NUSSELT_HYPOTHESIS=long python -m pytest -q tests/test_properties.py``.
 """
 
+import ast
 import os
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -34,6 +36,16 @@ settings.register_profile(
     database=None,
 )
 settings.load_profile(os.environ.get("NUSSELT_HYPOTHESIS", "default"))
+
+DATA = Path(__file__).parent / "data"
+
+
+def _literal(path: Path):
+    """A nested list of numbers written as a literal that Rust tests include too (lines
+    starting with // are comments)."""
+    text = path.read_text()
+    return ast.literal_eval("\n".join(line for line in text.splitlines() if not line.lstrip().startswith("//")))
+
 
 coord = st.floats(-1.0, 1.0, allow_nan=False, allow_infinity=False)
 point = st.tuples(coord, coord, coord)
@@ -162,29 +174,7 @@ def test_replay_hidden_obstacle_in_the_scene_path():
     # the obstacle's shadow lies inside face 1's: its kink planes spent the split's budget
     # before the events bounding face 1's shadow, whose samples then all missed a sliver of
     # it (F[4, 2] 9.7 x the bound above the free scene's)
-    polys = [
-        np.array(p)
-        for p in (
-            [[0.0, 0.0, -0.9183000178616898], [0.07784021009514253, -6.103515625e-05, 1e-06], [0.0, 0.0, 0.0]],
-            [
-                [0.0, -0.5930926454802722, 0.0],
-                [0.8475588492730055, 1.0, -0.9999999999999999],
-                [-0.2817396404840452, 0.0, 0.0],
-            ],
-            [
-                [-0.30728178508762116, 0.5026774268139946, -0.5028193694817119],
-                [-0.6735001221246235, 0.38018211373110433, -0.21899995206542422],
-                [0.9642884296069125, -0.6243695794420064, 0.3960201558226586],
-            ],
-            [[0.0, 0.0, 0.0], [0.0, 0.0, 0.5034272081510975], [-0.6123773118071852, 0.0, 0.0]],
-            [
-                [0.0, 0.0, 0.0],
-                [0.23382799420095446, 0.8206183018393673, 0.0],
-                [0.6898160178747967, -0.16391906316336136, 0.5026774268139946],
-            ],
-        )
-    ]
-    obstacle = np.array([[0.0, 0.0, -1.0], [0.0, 1.0, -0.9999999999999999], [0.0, -0.3356597410784897, 0.0]])
+    *polys, obstacle = [np.array(p) for p in _literal(DATA / "hidden_obstacle.txt")]
     F = nusselt.form_factors(nusselt.Scene.from_polygons(polys)).matrix.toarray()
     scene = nusselt.Scene.from_polygons([*polys, obstacle], obstruction=[False] * 5 + [True])
     blocked = nusselt.form_factors(scene).matrix.toarray()
