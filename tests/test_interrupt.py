@@ -243,3 +243,64 @@ def test_a_second_ctrl_c_abandons_the_output_and_keeps_the_checkpoint(tmp_path, 
     ref = nusselt.form_factors(nusselt.Scene.from_file(str(obj)))
     got = nusselt.io.load_npz(str(out))["matrix"]
     assert np.array_equal(got.indptr, ref.matrix.indptr) and np.array_equal(got.data, ref.matrix.data)
+
+
+def _assembly_interrupted(monkeypatch):
+    """assembly.assemble_pairs as form_factors calls it, with a Ctrl-C (KeyboardInterrupt)
+    arriving as it starts: every row is computed, the result not yet made."""
+    from nusselt import assembly
+
+    real, calls = assembly.assemble_pairs, []
+
+    def assemble(*args, **kwargs):
+        calls.append(1)
+        if len(calls) == 1:
+            raise KeyboardInterrupt
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(assembly, "assemble_pairs", assemble)
+
+
+def test_ctrl_c_while_the_finished_rows_are_assembled_saves_them(monkeypatch):
+    """A Ctrl-C after the last block but before the result is made (the rows held in memory
+    only, no checkpoint asked for) used to lose every row: they are now saved, and the
+    resumed matrix (which computes no row) is the uninterrupted one."""
+    scene = _cube(4)
+    ref = nusselt.form_factors(scene)
+    _assembly_interrupted(monkeypatch)
+    with pytest.raises(KeyboardInterrupt) as e:
+        nusselt.form_factors(scene)
+    msg = str(e.value)
+    path = msg.split("saved to checkpoint ")[1].split(";")[0]
+    try:
+        assert "all 96 rows were computed" in msg and "resume=True" in msg
+        run = ck.describe_run(scene, "auto", nusselt.methods.resolve("auto", {})[1], "pairs")
+        c = ck.Checkpoint(path, run, True)
+        try:  # every row is there: the resume computes none
+            assert sum(stop - start for start, stop, _ in c.load_all(scene.receivers)) == len(scene.receivers)
+        finally:
+            c.close()
+        assert _same(ref, nusselt.form_factors(scene, checkpoint=path, resume=True))
+    finally:
+        ck.remove_dir(path)
+
+
+def test_a_late_ctrl_c_in_the_cli_keeps_the_held_blocks_for_resume(tmp_path, monkeypatch, capsys):
+    """The CLI defers its checkpoint (nothing on disk in the first 10 s): a Ctrl-C after the
+    last block, before the output phase, writes the held blocks to OUTPUT.partial and says
+    --resume, which then writes the uninterrupted matrix."""
+    from nusselt.cli import main
+
+    obj, out = tmp_path / "cube.obj", tmp_path / "out.npz"
+    partial = str(out) + ".partial"
+    write_cube_obj(obj, 4)
+    _assembly_interrupted(monkeypatch)
+    assert main(["matrix", str(obj), "-o", str(out), "-q"]) == 130
+    last = capsys.readouterr().err.strip().splitlines()[-1]
+    assert partial in last and "--resume" in last, last
+    assert not os.path.exists(out) and any(f.startswith("block_") for f in os.listdir(partial))
+    assert main(["matrix", str(obj), "-o", str(out), "-q", "--resume"]) == 0
+    ref = nusselt.form_factors(nusselt.Scene.from_file(str(obj)))
+    got = nusselt.io.load_npz(str(out))["matrix"]
+    assert np.array_equal(got.indptr, ref.matrix.indptr) and np.array_equal(got.data, ref.matrix.data)
+    assert not os.path.exists(partial)

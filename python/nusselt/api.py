@@ -272,61 +272,74 @@ def form_factors(
         return assembly.compact_row_block(blocks.Block(rows, *scene._core.full_rows(rows, method, opts)))
 
     bar = _progress(progress, total=nr, desc=f"nusselt {method}")
+    held: list[tuple[int, int, blocks.Block]] = []  # finished, in memory only (deferred checkpoint)
     try:
-        if client is not None:
-            from . import distributed
+        try:
+            if client is not None:
+                from . import distributed
 
-            done = distributed.run_blocks(
-                client, scene, method, opts, kind, recv, block_size, checkpoint=ckpt, progress_bar=bar, keep=keep
-            )
+                done = distributed.run_blocks(
+                    client, scene, method, opts, kind, recv, block_size, checkpoint=ckpt, progress_bar=bar, keep=keep
+                )
+            else:
+                done = blocks.run_blocks(
+                    compute,
+                    recv,
+                    kind,
+                    block_size,
+                    checkpoint=ckpt,
+                    progress_bar=bar,
+                    keep=keep,
+                    threads=_threads(),
+                    later=later,
+                    write_after=write_after,
+                    held=held,
+                )
+        finally:
+            if bar is not None:
+                bar.close()
+            if ckpt is not None:
+                ckpt.close()
+
+        areas = scene.areas[recv]
+        std = lost = reciprocity = None
+        dropped = 0.0
+        if kind == "pairs":
+            reciprocity = assembly.pair_reciprocity(done, scene_areas, value_type)
+            matrix, std = assembly.assemble_pairs(done, col_of, areas, value_type)
+            dropped = float(dropped_mass[recv].max()) if nr and threshold > 0.0 else 0.0
         else:
-            done = blocks.run_blocks(
-                compute,
-                recv,
-                kind,
-                block_size,
-                checkpoint=ckpt,
-                progress_bar=bar,
-                keep=keep,
-                threads=_threads(),
-                later=later,
-                write_after=write_after,
-            )
-    finally:
-        if bar is not None:
-            bar.close()
-        if ckpt is not None:
-            ckpt.close()
-
-    areas = scene.areas[recv]
-    std = lost = reciprocity = None
-    dropped = 0.0
-    if kind == "pairs":
-        reciprocity = assembly.pair_reciprocity(done, scene_areas, value_type)
-        matrix, std = assembly.assemble_pairs(done, col_of, areas, value_type)
-        dropped = float(dropped_mass[recv].max()) if nr and threshold > 0.0 else 0.0
-    else:
-        matrix, std, lost = assembly.assemble_rows(done, col_of, nr, value_type)
-        if threshold > 0.0:
-            matrix, std, dropped = assembly.threshold_matrix(matrix, std, threshold)
-    if threshold == 0.0:  # a threshold may empty a row legitimately
-        warn_zero_rows(scene, matrix, recv)
-    names = [f"{scene.surface_names[scene.surface[k]]}[{k}]" for k in recv]
-    result = FormFactors(
-        matrix.toarray() if dense else matrix,
-        areas,
-        names,
-        recv,
-        method,
-        surface=scene.surface[recv],
-        surface_names=scene.surface_names,
-        std_err=std,
-        lost=lost,
-        info={"options": opts, "threshold": threshold, "dropped": dropped},
-    )
-    if reciprocity is not None and not dense:
-        result._seed_measures(reciprocity_error=reciprocity)
-    return result
+            matrix, std, lost = assembly.assemble_rows(done, col_of, nr, value_type)
+            if threshold > 0.0:
+                matrix, std, dropped = assembly.threshold_matrix(matrix, std, threshold)
+        if threshold == 0.0:  # a threshold may empty a row legitimately
+            warn_zero_rows(scene, matrix, recv)
+        names = [f"{scene.surface_names[scene.surface[k]]}[{k}]" for k in recv]
+        result = FormFactors(
+            matrix.toarray() if dense else matrix,
+            areas,
+            names,
+            recv,
+            method,
+            surface=scene.surface[recv],
+            surface_names=scene.surface_names,
+            std_err=std,
+            lost=lost,
+            info={"options": opts, "threshold": threshold, "dropped": dropped},
+        )
+        if reciprocity is not None and not dense:
+            result._seed_measures(reciprocity_error=reciprocity)
+        return result
+    except KeyboardInterrupt:
+        if not held:
+            raise  # run_blocks said where the finished blocks are, or none were finished
+        # every row was computed but held in memory only, and the Ctrl-C came while they were
+        # assembled: they are written now, so nothing computed is lost
+        saved = blocks.save_held(later, held)
+        raise KeyboardInterrupt(
+            f"interrupted after all {nr} rows were computed: they were saved to checkpoint {saved.path}; "
+            f"the same call with checkpoint={saved.path!r}, resume=True assembles them (CLI: --resume)"
+        ) from None
 
 
 def memory_estimate(n: int, dense: bool = False) -> tuple[int, int | None]:

@@ -128,6 +128,7 @@ def run_blocks(
     threads: int = 1,
     later: Callable[[], Checkpoint] | None = None,
     write_after: float | None = None,
+    held: list[tuple[int, int, Block]] | None = None,
 ) -> list[Block]:
     """Computes every block (those the checkpoint holds are loaded instead), sized by
     :class:`Sizer`, each saved to the checkpoint as it finishes; returns the Blocks in row
@@ -145,12 +146,16 @@ def run_blocks(
       raised names the directory. Without ``write_after`` (a rescue only), this stops as soon
       as ``keep`` drops part of a block: nothing whole is held any more.
 
-    A checkpoint this function opens it also closes."""
+    A checkpoint this function opens it also closes. ``held``, if given, is the list of the
+    finished blocks not written (start, stop, block as computed): on return it holds those
+    that are still only in memory, for :func:`save_held` to rescue if the caller is
+    interrupted while it assembles them."""
     n = len(recv)
     finished = checkpoint.load_all(recv) if checkpoint is not None else []
     sizer = Sizer(n, kind, block_size, threads)
     done: list[Block] = []
-    held: list[tuple[int, int, Block]] = []  # finished blocks as computed, not yet written
+    if held is None:
+        held = []  # finished blocks as computed, not yet written
     opened: Checkpoint | None = None
     pos, nxt = 0, 0
     index = checkpoint.next_index() if checkpoint is not None else 0
@@ -159,12 +164,9 @@ def run_blocks(
     def open_later() -> Checkpoint:
         nonlocal checkpoint, opened, later, index
         assert later is not None
-        checkpoint = opened = later()
+        checkpoint = opened = save_held(later, held, close=False)
         later = None
         index = checkpoint.next_index()
-        while held:
-            checkpoint.save(index, *held.pop(0))
-            index += 1
         return checkpoint
 
     try:
@@ -216,3 +218,16 @@ def run_blocks(
         if opened is not None:
             opened.close()
     return done
+
+
+def save_held(later: Callable[[], Checkpoint], held: list[tuple[int, int, Block]], close: bool = True) -> Checkpoint:
+    """Opens the checkpoint ``later`` gives and writes the ``held`` blocks to it in order,
+    emptying the list; closes it if ``close``."""
+    checkpoint = later()
+    index = checkpoint.next_index()
+    while held:
+        checkpoint.save(index, *held.pop(0))
+        index += 1
+    if close:
+        checkpoint.close()
+    return checkpoint
