@@ -12,7 +12,7 @@
 mod pairs;
 #[path = "common/polygon_file.rs"]
 mod polygon_file;
-use nusselt_core::obstructed::{self, Context, VisMethod, VisOptions};
+use nusselt_core::obstructed::{self, ClippingOptions, Context, Estimator};
 use nusselt_core::unobstructed::method::{self, Method};
 use nusselt_core::visibility::{Bvh, Occluders, Visibility};
 use pairs::facing_pairs;
@@ -35,7 +35,7 @@ fn main() {
     let polys = read_polygons(&args[1]);
     let occ = Occluders::new(&polys);
     let bvh = Bvh::new(&occ.polygons).unwrap();
-    let ctx = Context { polygons: &polys, occluders: &occ, vis: &bvh, rules: None };
+    let ctx = Context { polygons: &polys, occluders: &occ, vis: &bvh, rules: None, exact_tol: 1e-12 };
     let exact = method::Options { tol: 1e-12, ..Default::default() };
     let free = |i: usize, j: usize| method::area_factor(&polys[i], &polys[j], Method::Auto, &exact, None).unwrap();
     // (i, j, reference G)
@@ -48,7 +48,7 @@ fn main() {
             })
             .collect(),
         Err(_) => {
-            let o = VisOptions { tol: 1e-11, exact_tol: 1e-12, max_evals: 2_000_000, ..Default::default() };
+            let o = Estimator::Clipping(ClippingOptions { tol: 1e-11, max_evals: 2_000_000, ..Default::default() });
             let (mut out, mut cand) = (Vec::new(), Vec::new());
             let t0 = Instant::now();
             for (i, j) in facing_pairs(&polys) {
@@ -63,7 +63,7 @@ fn main() {
                 if f < 1e-6 * polys[i].area() {
                     continue;
                 }
-                let r = obstructed::pair(&ctx, i, j, VisMethod::Clipping, &o).unwrap().value;
+                let r = obstructed::pair(&ctx, i, j, &o).unwrap().value;
                 if r < f * (1.0 - 1e-6) {
                     out.push((i, j, r));
                 }
@@ -76,14 +76,16 @@ fn main() {
     };
     let frees: Vec<f64> = pairs.iter().map(|&(i, j, _)| free(i, j)).collect();
     for tol in tols {
-        let mut o = VisOptions { tol, exact_tol: 1e-12, ..Default::default() };
+        let mut o = ClippingOptions { tol, ..Default::default() };
         if let Some(m) = std::env::var("NUSSELT_MAXEVALS").ok().and_then(|s| s.parse().ok()) {
             o.max_evals = m;
         }
         let wall = Instant::now();
         let t0 = cpu_seconds(&wall);
-        let got: Vec<f64> =
-            pairs.iter().map(|&(i, j, _)| obstructed::pair(&ctx, i, j, VisMethod::Auto, &o).unwrap().value).collect();
+        let got: Vec<f64> = pairs
+            .iter()
+            .map(|&(i, j, _)| obstructed::pair(&ctx, i, j, &Estimator::Clipping(o)).unwrap().value)
+            .collect();
         let us = (cpu_seconds(&wall) - t0) / pairs.len() as f64 * 1e6;
         // fully hidden pairs (reference 0) come out exactly 0 and are left out of the ratios
         let hidden = pairs.iter().zip(&got).filter(|(p, g)| p.2 == 0.0 && **g != 0.0).count();

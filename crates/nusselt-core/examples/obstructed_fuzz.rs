@@ -6,7 +6,7 @@
 //! the receiver's (as furniture stands on a floor). Reference: the same method at tol 1e-9 with
 //! a budget of 2 million evaluations per integral. Pairs the blockers do not touch are skipped.
 //! Errors are relative to each pair's unobstructed G = A_i F_ij (what `tol` bounds).
-use nusselt_core::obstructed::{self, Context, VisMethod, VisOptions};
+use nusselt_core::obstructed::{self, ClippingOptions, Context, Estimator};
 use nusselt_core::unobstructed::method::{self, Method};
 use nusselt_core::visibility::{Bvh, Occluders};
 use nusselt_core::{Polygon, Vec3};
@@ -76,18 +76,18 @@ fn main() {
         }
         let occ = Occluders::new(&polys);
         let bvh = Bvh::new(&occ.polygons).unwrap();
-        let ctx = Context { polygons: &polys, occluders: &occ, vis: &bvh, rules: None };
+        let ctx = Context { polygons: &polys, occluders: &occ, vis: &bvh, rules: None, exact_tol: 1e-12 };
         let free = method::area_factor(&polys[0], &polys[1], Method::Analytic, &Default::default(), None).unwrap();
-        let reference = VisOptions { tol: 1e-9, exact_tol: 1e-12, max_evals: 2_000_000, ..Default::default() };
-        let reference = obstructed::pair(&ctx, 0, 1, VisMethod::Clipping, &reference).unwrap().value;
+        let reference = Estimator::Clipping(ClippingOptions { tol: 1e-9, max_evals: 2_000_000, ..Default::default() });
+        let reference = obstructed::pair(&ctx, 0, 1, &reference).unwrap().value;
         if !(free > 0.0) || (free - reference).abs() < 1e-9 * free {
             continue;
         }
         done += 1;
         for (k, &tol) in tols.iter().enumerate() {
             let t0 = Instant::now();
-            let o = VisOptions { tol, exact_tol: 1e-12, ..Default::default() };
-            let v = obstructed::pair(&ctx, 0, 1, VisMethod::Clipping, &o).unwrap().value;
+            let o = Estimator::Clipping(ClippingOptions { tol, ..Default::default() });
+            let v = obstructed::pair(&ctx, 0, 1, &o).unwrap().value;
             time[k] += t0.elapsed().as_secs_f64();
             let e = (v - reference).abs() / free;
             over[k] += (e > tol) as usize;

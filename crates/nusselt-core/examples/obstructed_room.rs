@@ -34,8 +34,8 @@ fn main() {
             let scene = Scene::new(polys, vec![true; np]).unwrap();
             let source: Option<usize> = args.get(5).and_then(|s| s.parse().ok());
             let mut o = AllOptions::default();
-            o.vis.tol = tol;
-            o.vis.clip_source = source;
+            o.clipping.tol = tol;
+            o.clipping.source = source;
             let rows: Vec<usize> = (0..np).step_by(stride).collect();
             let t0 = Instant::now();
             let m = if source.is_some() { VisMethod::Clipping } else { VisMethod::Auto };
@@ -126,7 +126,7 @@ fn main() {
             let tol: f64 = args.get(5).and_then(|s| s.parse().ok()).unwrap_or(1e-6);
             let obs: Vec<Polygon> = (0..polys.len()).filter(|&k| k != i && k != j).map(|k| polys[k].clone()).collect();
             let mut o = AllOptions::default();
-            o.vis.tol = tol;
+            o.clipping.tol = tol;
             let t0 = Instant::now();
             let e = nusselt_core::scene::pair_view_factor(
                 polys[i].clone(),

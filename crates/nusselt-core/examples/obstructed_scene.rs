@@ -24,7 +24,7 @@ fn main() {
     let n = polys.len();
     let scene = Scene::new(polys, vec![true; n]).unwrap();
     let mut o = AllOptions::default();
-    o.vis.tol = tol;
+    o.clipping.tol = tol;
     let m = AnyMethod::Visible(VisMethod::Auto);
     let never = AtomicBool::new(false);
     if let (Some(i), Some(j)) =

@@ -3,7 +3,7 @@
 //!     cargo run --release -p nusselt-core --example obstructed_schemes -- N PAIRS
 //! Reference: the adaptive rule at tol 1e-10. Errors are relative to each pair's unobstructed
 //! G = A_i F_ij (what `tol` bounds).
-use nusselt_core::obstructed::{self, Context, VisMethod, VisOptions};
+use nusselt_core::obstructed::{self, ClippingOptions, Context, Estimator};
 use nusselt_core::unobstructed::method::{self, Method};
 use nusselt_core::visibility::{Bvh, Occluders, Visibility};
 use std::time::Instant;
@@ -21,7 +21,7 @@ fn main() {
     let bvh = Bvh::new(&polys).unwrap(); // picks the pairs (the same ones as before occluders)
     let occ = Occluders::new(&polys);
     let occ_bvh = Bvh::new(&occ.polygons).unwrap();
-    let ctx = Context { polygons: &polys, occluders: &occ, vis: &occ_bvh, rules: None };
+    let ctx = Context { polygons: &polys, occluders: &occ, vis: &occ_bvh, rules: None, exact_tol: 1e-12 };
     // random pairs with a candidate blocker in between (xorshift, fixed seed)
     let mut cand = Vec::new();
     let pairs: Vec<(usize, usize)> = pairs::facing_pairs(&polys)
@@ -31,10 +31,10 @@ fn main() {
         })
         .take(want)
         .collect();
-    let o = VisOptions { tol: 1e-10, exact_tol: 1e-12, ..Default::default() };
+    let o = ClippingOptions { tol: 1e-10, ..Default::default() };
     let t0 = Instant::now();
     let refs: Vec<f64> =
-        pairs.iter().map(|&(i, j)| obstructed::pair(&ctx, i, j, VisMethod::Clipping, &o).unwrap().value).collect();
+        pairs.iter().map(|&(i, j)| obstructed::pair(&ctx, i, j, &Estimator::Clipping(o)).unwrap().value).collect();
     let free: Vec<f64> = pairs
         .iter()
         .map(|&(i, j)| method::area_factor(&polys[i], &polys[j], Method::Analytic, &Default::default(), None).unwrap())
@@ -46,12 +46,12 @@ fn main() {
         pairs.len(),
         t0.elapsed().as_secs_f64()
     );
-    let mut schemes: Vec<(String, VisOptions)> = Vec::new();
+    let mut schemes: Vec<(String, ClippingOptions)> = Vec::new();
     for k in 1..=4 {
-        schemes.push((format!("source {k}x{k}"), VisOptions { clip_source: Some(k), ..o.clone() }));
+        schemes.push((format!("source {k}x{k}"), ClippingOptions { source: Some(k), ..o }));
     }
     for t in [1e-2, 1e-3, 1e-4, 1e-5, 1e-6, 1e-8] {
-        schemes.push((format!("adaptive tol {t:e}"), VisOptions { tol: t, ..o.clone() }));
+        schemes.push((format!("adaptive tol {t:e}"), ClippingOptions { tol: t, ..o }));
     }
     for (name, q) in schemes {
         let t0 = Instant::now();
@@ -59,7 +59,7 @@ fn main() {
             .iter()
             .zip(refs.iter().zip(&free))
             .map(|(&(i, j), (r, f))| {
-                (obstructed::pair(&ctx, i, j, VisMethod::Clipping, &q).unwrap().value - r).abs() / f
+                (obstructed::pair(&ctx, i, j, &Estimator::Clipping(q)).unwrap().value - r).abs() / f
             })
             .collect();
         let us = t0.elapsed().as_secs_f64() / pairs.len() as f64 * 1e6;

@@ -530,19 +530,23 @@ fn apply(name: &str, key: &str, v: &Value, o: &mut AllOptions) -> Result<()> {
     match (name, key) {
         (_, "budget") => o.budget = as_u64(v),
         ("auto", "tol") => o.exact.tol = as_f64(v),
-        ("auto" | "analytic" | "contour", "obstructed_tol") => o.vis.tol = as_f64(v),
+        ("auto" | "analytic" | "contour", "obstructed_tol") => o.clipping.tol = as_f64(v),
         ("contour", "nodes") => o.exact.nodes = as_u64(v) as usize,
-        ("quadrature", "order") => o.vis.order = as_u64(v) as usize,
-        ("quadrature", "tol") => o.vis.tol = as_f64(v),
-        ("quadrature", "panels") => o.vis.panels = as_u64(v) as usize,
-        ("quadrature" | "montecarlo", "control_variate") => o.vis.control_variate = as_bool(v),
-        ("montecarlo", "samples") => o.vis.samples = as_u64(v) as usize,
-        ("montecarlo", "seed") => o.vis.seed = as_u64(v),
-        ("subdivision", "divisions") => o.vis.divisions = as_u64(v) as usize,
-        ("subdivision" | "adaptive", "source") => o.vis.source_points = source_of(v).1,
-        ("adaptive" | "clipping", "tol") => o.vis.tol = as_f64(v),
-        ("adaptive" | "clipping", "max_depth") => o.vis.max_depth = as_u64(v) as usize,
-        ("clipping", "source") => o.vis.clip_source = source_of(v).1,
+        ("quadrature", "order") => o.quadrature.order = as_u64(v) as usize,
+        ("quadrature", "tol") => o.quadrature.tol = as_f64(v),
+        ("quadrature", "panels") => o.quadrature.panels = as_u64(v) as usize,
+        ("quadrature", "control_variate") => o.quadrature.control_variate = as_bool(v),
+        ("montecarlo", "samples") => o.montecarlo.samples = as_u64(v) as usize,
+        ("montecarlo", "seed") => o.montecarlo.seed = as_u64(v),
+        ("montecarlo", "control_variate") => o.montecarlo.control_variate = as_bool(v),
+        ("subdivision", "divisions") => o.subdivision.divisions = as_u64(v) as usize,
+        ("subdivision", "source") => o.subdivision.source = source_of(v).1,
+        ("adaptive", "tol") => o.adaptive.tol = as_f64(v),
+        ("adaptive", "max_depth") => o.adaptive.max_depth = as_u64(v) as usize,
+        ("adaptive", "source") => o.adaptive.source = source_of(v).1,
+        ("clipping", "tol") => o.clipping.tol = as_f64(v),
+        ("clipping", "max_depth") => o.clipping.max_depth = as_u64(v) as usize,
+        ("clipping", "source") => o.clipping.source = source_of(v).1,
         ("hemicube", "resolution") => o.hemicube.resolution = as_u64(v) as u32,
         ("hemicube", "source") => o.hemicube.source = source_of(v).0,
         ("hemicube", "random_rotation") => o.hemicube.random_rotation = as_bool(v),
@@ -625,8 +629,13 @@ mod tests {
         assert_eq!(at("raytrace").raytrace, RaytraceOptions::default());
         assert_eq!(at("nusselt").nusselt, NusseltOptions::default());
         assert_eq!(at("contour").exact, crate::unobstructed::method::Options::default());
-        assert_eq!(at("clipping").vis, crate::obstructed::VisOptions::default());
-        assert_eq!(at("montecarlo").vis.samples, crate::obstructed::VisOptions::default().samples);
+        use crate::obstructed::SubdivisionOptions;
+        use crate::obstructed::{AdaptiveOptions, ClippingOptions, MonteCarloOptions, QuadratureOptions};
+        assert_eq!(at("quadrature").quadrature, QuadratureOptions::default());
+        assert_eq!(at("montecarlo").montecarlo, MonteCarloOptions::default());
+        assert_eq!(at("subdivision").subdivision, SubdivisionOptions::default());
+        assert_eq!(at("adaptive").adaptive, AdaptiveOptions::default());
+        assert_eq!(at("clipping").clipping, ClippingOptions::default());
         // a struct filled by hand is held to the table's range, and the message says which
         let e =
             SinglePlaneOptions { min_cell: 1e-5, ..std::default::Default::default() }.check().unwrap_err().to_string();
@@ -648,8 +657,10 @@ mod tests {
         assert!(gauss(0).check().unwrap_err().to_string().contains("k >= 1"));
         let e = configure("hemicube", &[("resolution".into(), Value::Int(131))]).unwrap_err().to_string();
         assert!(e.contains("hemicube") && e.contains("even"), "{e}");
-        let vis = crate::obstructed::VisOptions { order: 33, ..std::default::Default::default() };
-        assert!(vis.check().unwrap_err().to_string().contains("order"));
+        let q = QuadratureOptions { order: 33, ..std::default::Default::default() };
+        assert!(q.check().unwrap_err().to_string().contains("order"));
+        let e = AdaptiveOptions { max_depth: 17, ..std::default::Default::default() }.check().unwrap_err().to_string();
+        assert!(e.contains("adaptive") && e.contains("max_depth"), "{e}");
     }
 
     #[test]
@@ -658,10 +669,10 @@ mod tests {
         assert_eq!(o.exact.tol, 1e-6);
         for m in ["auto", "analytic", "contour"] {
             let (_, o) = configure(m, &[("obstructed_tol".into(), Value::Float(1e-4))]).unwrap();
-            assert_eq!(o.vis.tol, 1e-4, "{m}");
+            assert_eq!(o.clipping.tol, 1e-4, "{m}");
         }
         let (_, o) = configure("adaptive", &[("tol".into(), Value::Float(1e-3))]).unwrap();
-        assert_eq!(o.vis.tol, 1e-3);
+        assert_eq!(o.adaptive.tol, 1e-3);
         assert_eq!(o.exact.tol, 1e-10);
     }
 }

@@ -17,7 +17,10 @@ use crate::hemisphere::{
 };
 pub use crate::matrix::PairRow;
 use crate::matrix::{clamp_g, flatten_pair_rows, full_rows, upper_pair_rows, PairBlock};
-use crate::obstructed::{self, Context, Estimate, VisMethod, VisOptions};
+use crate::obstructed::{
+    self, AdaptiveOptions, ClippingOptions, Context, Estimate, Estimator, MonteCarloOptions, QuadratureOptions,
+    SubdivisionOptions, VisMethod,
+};
 use crate::unobstructed::method::{self, Method, Options, RuleCache};
 use crate::unobstructed::rows as unobstructed_rows;
 use crate::visibility::{Bvh, Occluders};
@@ -55,7 +58,12 @@ pub struct AllOptions {
     /// Work units one pair or row may take (see [`crate::work`]).
     pub budget: u64,
     pub exact: Options,
-    pub vis: VisOptions,
+    pub quadrature: QuadratureOptions,
+    pub montecarlo: MonteCarloOptions,
+    pub subdivision: SubdivisionOptions,
+    pub adaptive: AdaptiveOptions,
+    /// Also the obstructed pairs of `auto`, `analytic` and `contour` (`obstructed_tol`).
+    pub clipping: ClippingOptions,
     pub hemicube: HemicubeOptions,
     pub single_plane: SinglePlaneOptions,
     pub raytrace: RaytraceOptions,
@@ -67,7 +75,11 @@ impl Default for AllOptions {
         AllOptions {
             budget: crate::work::DEFAULT_BUDGET,
             exact: Default::default(),
-            vis: Default::default(),
+            quadrature: Default::default(),
+            montecarlo: Default::default(),
+            subdivision: Default::default(),
+            adaptive: Default::default(),
+            clipping: Default::default(),
             hemicube: Default::default(),
             single_plane: Default::default(),
             raytrace: Default::default(),
@@ -79,11 +91,27 @@ impl Default for AllOptions {
 impl AllOptions {
     pub fn check(&self) -> Result<()> {
         self.exact.check()?;
-        self.vis.check()?;
+        self.quadrature.check()?;
+        self.montecarlo.check()?;
+        self.subdivision.check()?;
+        self.adaptive.check()?;
+        self.clipping.check()?;
         self.hemicube.check()?;
         self.single_plane.check()?;
         self.raytrace.check()?;
         self.nusselt.check()
+    }
+
+    /// The estimator of pair method `m` with its options (`auto`: `clipping` on the pairs
+    /// something may block).
+    pub fn estimator(&self, m: VisMethod) -> Estimator {
+        match m {
+            VisMethod::Quadrature => Estimator::Quadrature(self.quadrature),
+            VisMethod::MonteCarlo => Estimator::MonteCarlo(self.montecarlo),
+            VisMethod::Subdivision => Estimator::Subdivision(self.subdivision),
+            VisMethod::Adaptive => Estimator::Adaptive(self.adaptive),
+            VisMethod::Auto | VisMethod::Clipping => Estimator::Clipping(self.clipping),
+        }
     }
 }
 
@@ -254,7 +282,14 @@ impl Scene {
             Bvh::new(&occ.polygons).map(|bvh| (occ, bvh))
         });
         let (occluders, vis) = occ.as_ref().map_err(|e| e.clone())?;
-        Ok(Context { polygons: &self.polygons, occluders, vis, rules: Some(&self.rules) })
+        let exact_tol = Options::default().tol;
+        Ok(Context { polygons: &self.polygons, occluders, vis, rules: Some(&self.rules), exact_tol })
+    }
+
+    /// [`Scene::context`] for the pair estimators of a call with options `o` (the
+    /// unobstructed G they compute is `auto`'s at `o.exact.tol`).
+    fn pair_context(&self, o: &AllOptions) -> Result<Context<'_>> {
+        Ok(Context { exact_tol: o.exact.tol, ..self.context()? })
     }
 
     /// G_ij = A_i F_ij for every row i in `rows` and receiver j > i (pair methods).
@@ -273,16 +308,14 @@ impl Scene {
                     unobstructed_rows::pair_block(p, &self.receiver, &self.rules, rows, &o.exact, cancel)?.rows()
                 );
             }
-            AnyMethod::Visible(vm) if obstructed::exact_when_unobstructed(vm, &o.vis) => {
+            AnyMethod::Visible(vm) if obstructed::exact_when_unobstructed(&o.estimator(vm)) => {
                 return self.visible_rows(rows, m, o, cancel);
             }
             AnyMethod::Visible(vm) => {
-                let ctx = self.context()?;
-                let mut vo = o.vis.clone();
-                vo.exact_tol = o.exact.tol;
-                let budget = o.budget;
+                let ctx = self.pair_context(o)?;
+                let (budget, est) = (o.budget, o.estimator(vm));
                 Box::new(move |i, j| {
-                    work::metered(budget, || pair_what(m, i, j), || obstructed::pair(&ctx, i, j, vm, &vo))
+                    work::metered(budget, || pair_what(m, i, j), || obstructed::pair(&ctx, i, j, &est))
                 })
             }
         };
@@ -316,9 +349,7 @@ impl Scene {
     /// same values as asking [`obstructed::pair_with`] pair by pair, at a fraction of the cost.
     fn visible_rows(&self, rows: &[usize], m: AnyMethod, o: &AllOptions, cancel: &AtomicBool) -> Result<Vec<PairRow>> {
         let p = &self.polygons;
-        let ctx = self.context()?;
-        let mut vo = o.vis.clone();
-        vo.exact_tol = o.exact.tol;
+        let ctx = self.pair_context(o)?;
         let (free, vm) = match m {
             AnyMethod::Visible(vm) => {
                 (unobstructed_rows::pair_block(p, &self.receiver, &self.rules, rows, &o.exact, cancel)?, vm)
@@ -341,6 +372,7 @@ impl Scene {
             }
             AnyMethod::Row(_) => return Err(Error::InvalidArgument("a row method has no pair rows".into())),
         };
+        let estimator = o.estimator(vm);
         let ranks = self.ranks.get_or_init(|| morton_ranks(p));
         rows.par_iter()
             .enumerate()
@@ -370,7 +402,7 @@ impl Scene {
                             let est = work::metered(
                                 o.budget,
                                 || pair_what(m, i, j),
-                                || obstructed::pair_with(&ctx, i, j, vm, &vo, known),
+                                || obstructed::pair_with(&ctx, i, j, &estimator, known),
                             )?;
                             (g[k], std[k]) = (est.value, est.std_err);
                         }
@@ -484,11 +516,9 @@ pub fn pair_view_factor(
         AnyMethod::Visible(vm) => (vm, None),
     };
     let scene = scene_of(vec![a, b], obstacles, None)?;
-    let mut vo = o.vis.clone();
-    vo.exact_tol = o.exact.tol;
-    let ctx = scene.context()?;
-    let known = obstructed::Known { free, among: None };
-    let e = work::metered(o.budget, || pair_what(m, 0, 1), || obstructed::pair_with(&ctx, 0, 1, vm, &vo, known))?;
+    let ctx = scene.pair_context(o)?;
+    let (known, est) = (obstructed::Known { free, among: None }, o.estimator(vm));
+    let e = work::metered(o.budget, || pair_what(m, 0, 1), || obstructed::pair_with(&ctx, 0, 1, &est, known))?;
     let area_b = scene.polygons[1].area();
     Ok(Estimate { value: clamp_g(e.value, area, area_b) / area, std_err: e.std_err / area })
 }
@@ -513,9 +543,9 @@ pub fn point_view_factor(
         AnyMethod::Exact(_) | AnyMethod::Visible(_) => {
             let vm = if let AnyMethod::Visible(vm) = m { vm } else { VisMethod::Clipping };
             let scene = scene_of(vec![b], obstacles, None)?;
-            let ctx = scene.context()?;
+            let ctx = scene.pair_context(o)?;
             let what = || format!("method {:?}: the point", crate::registry::name_of(m));
-            work::metered(o.budget, what, || obstructed::point(&ctx, p, n, 0, vm, &o.vis))?
+            work::metered(o.budget, what, || obstructed::point(&ctx, p, n, 0, &o.estimator(vm)))?
         }
         AnyMethod::Row(rm) => {
             // The point becomes a tiny source patch sampled at its centroid (= p).
@@ -565,14 +595,15 @@ mod tests {
         assert!(!scene.unobstructed());
         let rows: Vec<usize> = (0..n).collect();
         let mut o = AllOptions::default();
-        o.vis.tol = 1e-4;
-        o.vis.divisions = 6;
-        o.vis.source_points = Some(2);
-        o.vis.order = 4;
-        o.vis.samples = 256;
-        let ctx = scene.context().unwrap();
+        o.clipping.tol = 1e-4;
+        o.quadrature.tol = 1e-4;
+        o.subdivision.divisions = 6;
+        o.subdivision.source = Some(2);
+        o.quadrature.order = 4;
+        o.montecarlo.samples = 256;
+        let ctx = scene.pair_context(&o).unwrap();
         let mut clip1 = o.clone();
-        clip1.vis.clip_source = Some(1);
+        clip1.clipping.source = Some(1);
         for (m, o) in [
             (VisMethod::Auto, &o),
             (VisMethod::Clipping, &clip1),
@@ -580,14 +611,13 @@ mod tests {
             (VisMethod::Quadrature, &o),
             (VisMethod::MonteCarlo, &o),
         ] {
-            let mut vo = o.vis.clone();
-            vo.exact_tol = o.exact.tol;
+            let est = o.estimator(m);
             let out = scene.pair_rows(&rows, AnyMethod::Visible(m), o, &AtomicBool::new(false)).unwrap();
             let (mut pairs, mut hidden) = (0, 0);
             for (i, row) in rows.iter().zip(&out) {
                 let mut k = 0;
                 for j in i + 1..n {
-                    let want = obstructed::pair(&ctx, *i, j, m, &vo).unwrap();
+                    let want = obstructed::pair(&ctx, *i, j, &est).unwrap();
                     let free =
                         method::area_factor(&scene.polygons[*i], &scene.polygons[j], Method::Auto, &o.exact, None)
                             .unwrap();
@@ -618,9 +648,9 @@ mod tests {
         let n = polys.len();
         let scene = Scene::new(polys, vec![true; n]).unwrap();
         let rows: Vec<usize> = (0..n).collect();
-        let ctx = scene.context().unwrap();
-        let o = AllOptions { vis: VisOptions { tol: 1e-6, ..Default::default() }, ..Default::default() };
-        let tight = VisOptions { tol: 1e-9, exact_tol: 1e-12, ..Default::default() };
+        let ctx = Context { exact_tol: 1e-12, ..scene.context().unwrap() };
+        let o = AllOptions { clipping: ClippingOptions { tol: 1e-6, ..Default::default() }, ..Default::default() };
+        let tight = Estimator::Clipping(ClippingOptions { tol: 1e-9, ..Default::default() });
         for mm in [Method::Analytic, Method::Contour] {
             let out = scene.pair_rows(&rows, AnyMethod::Exact(mm), &o, &AtomicBool::new(false)).unwrap();
             let (mut free_pairs, mut blocked) = (0, 0);
@@ -642,7 +672,7 @@ mod tests {
                         free_pairs += 1;
                         continue;
                     }
-                    let want = obstructed::pair(&ctx, i, j, VisMethod::Clipping, &tight).unwrap().value;
+                    let want = obstructed::pair(&ctx, i, j, &tight).unwrap().value;
                     assert!((g - want).abs() <= 2e-6 * free, "{mm:?} pair {i} {j}: {g} against {want} (free {free})");
                     assert!(g <= free, "{mm:?} pair {i} {j}");
                     blocked += (g < (1.0 - 1e-3) * free) as usize;
@@ -659,14 +689,15 @@ mod tests {
         let (polys, _) = room_with_crate(3, 3);
         let n = polys.len();
         let scene = Scene::new(polys.clone(), vec![true; n]).unwrap();
-        let ctx = scene.context().unwrap();
+        let ctx = Context { exact_tol: 1e-12, ..scene.context().unwrap() };
         assert_eq!(ctx.occluders.polygons.len(), 12);
         let ids: Vec<u32> = (0..n as u32).collect();
         let tiles = Occluders { polygons: polys.clone(), owner: ids.clone(), member: ids };
         let bvh = Bvh::new(&polys).unwrap();
-        let tile_ctx = Context { polygons: &polys, occluders: &tiles, vis: &bvh, rules: None };
-        let clip2 = VisOptions { clip_source: Some(2), exact_tol: 1e-12, ..Default::default() };
-        let auto = VisOptions { tol: 1e-6, exact_tol: 1e-12, ..Default::default() };
+        let tile_ctx = Context { polygons: &polys, occluders: &tiles, vis: &bvh, rules: None, exact_tol: 1e-12 };
+        let clip2 = Estimator::Clipping(ClippingOptions { source: Some(2), ..Default::default() });
+        // `auto` on an obstructed pair is `clipping` at its obstructed_tol
+        let auto = Estimator::Clipping(ClippingOptions { tol: 1e-6, ..Default::default() });
         let (mut checked, mut cand) = (0, Vec::new());
         for i in (0..n).step_by(3) {
             for j in (i + 1..n).step_by(5) {
@@ -682,10 +713,10 @@ mod tests {
                 if cand.is_empty() || free == 0.0 {
                     continue;
                 }
-                for (m, o, tol) in [(VisMethod::Clipping, &clip2, 1e-12), (VisMethod::Auto, &auto, 2e-6)] {
+                for (m, tol) in [(&clip2, 1e-12), (&auto, 2e-6)] {
                     let (a, b) = (
-                        obstructed::pair(&ctx, i, j, m, o).unwrap().value,
-                        obstructed::pair(&tile_ctx, i, j, m, o).unwrap().value,
+                        obstructed::pair(&ctx, i, j, m).unwrap().value,
+                        obstructed::pair(&tile_ctx, i, j, m).unwrap().value,
                     );
                     assert!((a - b).abs() <= tol * free, "{m:?} pair {i} {j}: joined {a}, tiles {b}, free {free}");
                 }

@@ -2,7 +2,7 @@
 //! integrated over the source adaptively.
 
 use super::rules::{area3, centroid3, radon7, rule_integral};
-use super::VisOptions;
+use super::ClippingOptions;
 use crate::geometry::{plane_chord, Polygon, Vec3};
 use crate::quadrature::adaptive::split_in_four;
 
@@ -161,7 +161,7 @@ pub(super) fn adaptive_over_source(
     f: &dyn Fn(Vec3, &[&Polygon]) -> f64,
     test: &ShadowTest,
     goal: f64,
-    o: &VisOptions,
+    o: &ClippingOptions,
 ) -> f64 {
     use std::cmp::Ordering;
     use std::collections::BinaryHeap;
@@ -308,17 +308,23 @@ pub(super) fn adaptive_over_source(
 
 #[cfg(test)]
 mod tests {
-    use super::super::{pair, Context, VisMethod};
+    use super::super::{pair, Context, Estimator};
     use super::*;
     use crate::unobstructed::method::{self, Method};
     use crate::visibility::{Bvh, Occluders};
 
-    /// G of the pair (i, j) of `polys` by `clipping`, every other polygon a blocker.
-    fn clipping(polys: &[Polygon], i: usize, j: usize, o: &VisOptions) -> f64 {
+    /// G of the pair (i, j) of `polys` by `clipping`, every other polygon a blocker, its
+    /// unobstructed G to `exact_tol`.
+    fn clipping(polys: &[Polygon], i: usize, j: usize, o: &ClippingOptions, exact_tol: f64) -> f64 {
         let occ = Occluders::new(polys);
         let bvh = Bvh::new(&occ.polygons).unwrap();
-        let ctx = Context { polygons: polys, occluders: &occ, vis: &bvh, rules: None };
-        pair(&ctx, i, j, VisMethod::Clipping, o).unwrap().value
+        let ctx = Context { polygons: polys, occluders: &occ, vis: &bvh, rules: None, exact_tol };
+        pair(&ctx, i, j, &Estimator::Clipping(*o)).unwrap().value
+    }
+
+    /// `auto`'s default `tol`: the unobstructed G of a pair nobody computed for it.
+    fn auto_tol() -> f64 {
+        method::Options::default().tol
     }
 
     /// A quad with the given corners, turned to face along `normal`.
@@ -370,10 +376,10 @@ mod tests {
         );
         let polys = vec![plate(0.0, true), plate(1.0, false), blocker];
         assert!(clearance(&polys[0], &[&polys[2]]) < clearance(&polys[1], &[&polys[2]]));
-        let o = VisOptions { tol: 1e-5, exact_tol: 1e-12, ..Default::default() };
-        let (g01, g10) = (clipping(&polys, 0, 1, &o), clipping(&polys, 1, 0, &o));
+        let o = ClippingOptions { tol: 1e-5, ..Default::default() };
+        let (g01, g10) = (clipping(&polys, 0, 1, &o, 1e-12), clipping(&polys, 1, 0, &o, 1e-12));
         assert_eq!(g01.to_bits(), g10.to_bits());
-        let reference = clipping(&polys, 0, 1, &VisOptions { tol: 1e-10, max_evals: 2_000_000, ..o.clone() });
+        let reference = clipping(&polys, 0, 1, &ClippingOptions { tol: 1e-10, max_evals: 2_000_000, ..o }, 1e-12);
         let free = method::area_factor(&polys[0], &polys[1], Method::Analytic, &Default::default(), None).unwrap();
         assert!(reference < 0.9 * free && reference > 0.1 * free, "hidden fraction {}", 1.0 - reference / free);
         assert!(
@@ -402,7 +408,7 @@ mod tests {
         );
         let mut polys = vec![source, receiver];
         polys.extend(box_faces(Vec3::new(0.8, 0.7, 1.1), Vec3::new(1.8, 1.7, 2.1)));
-        let value = |tol: f64| clipping(&polys, 0, 1, &VisOptions { tol, exact_tol: 1e-12, ..Default::default() });
+        let value = |tol: f64| clipping(&polys, 0, 1, &ClippingOptions { tol, ..Default::default() }, 1e-12);
         let free = method::area_factor(&polys[0], &polys[1], Method::Analytic, &Default::default(), None).unwrap();
         let reference = value(1e-10);
         assert!(reference > 0.05 * free && reference < 0.15 * free, "visible fraction {}", reference / free);
@@ -433,8 +439,8 @@ mod tests {
     #[test]
     fn decisions_do_not_depend_on_where_the_scene_lies() {
         let g = |shift: Vec3, scale: f64, tol: f64| {
-            let o = VisOptions { tol, exact_tol: 1e-12, max_evals: 2_000_000, ..Default::default() };
-            clipping(&vertex_faces(shift, scale), 2, 3, &o) / (scale * scale)
+            let o = ClippingOptions { tol, max_evals: 2_000_000, ..Default::default() };
+            clipping(&vertex_faces(shift, scale), 2, 3, &o, 1e-12) / (scale * scale)
         };
         let p = vertex_faces(Vec3::ZERO, 1.0);
         let free = method::area_factor(&p[2], &p[3], Method::Analytic, &Default::default(), None).unwrap();
@@ -480,7 +486,9 @@ mod tests {
         let polys: Vec<Polygon> =
             raw.iter().map(|p| Polygon::new(p.iter().map(|&v| Vec3::from_array(v)).collect()).unwrap()).collect();
         let free = method::area_factor(&polys[0], &polys[1], Method::Analytic, &Default::default(), None).unwrap();
-        let g = |tol: f64| clipping(&polys, 0, 1, &VisOptions { tol, max_evals: 2_000_000, ..Default::default() });
+        let g = |tol: f64| {
+            clipping(&polys, 0, 1, &ClippingOptions { tol, max_evals: 2_000_000, ..Default::default() }, auto_tol())
+        };
         let reference = g(1e-10);
         assert!(reference < 0.99 * free, "hidden fraction {}", 1.0 - reference / free);
         for tol in [1e-3, 1e-4, 1e-5, 1e-6] {
@@ -501,7 +509,7 @@ mod tests {
             raw.iter().map(|p| Polygon::new(p.iter().map(|&v| Vec3::from_array(v)).collect()).unwrap()).collect();
         let free = method::area_factor(&all[2], &all[4], Method::Analytic, &Default::default(), None).unwrap();
         let g = |polys: &[Polygon], i: usize, j: usize, tol: f64| {
-            clipping(polys, i, j, &VisOptions { tol, max_evals: 2_000_000, ..Default::default() })
+            clipping(polys, i, j, &ClippingOptions { tol, max_evals: 2_000_000, ..Default::default() }, auto_tol())
         };
         let reference = g(&all[..5], 4, 2, 1e-10);
         assert!(reference < 0.99 * free, "hidden fraction {}", 1.0 - reference / free);

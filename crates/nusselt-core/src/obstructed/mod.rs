@@ -37,15 +37,20 @@ use sampled::{
 use subdivision::{adaptive_point, subdivide_at_blockers, uniform_point};
 
 pub use clipping::MAX_SOURCE_EVALS;
-pub use options::{Estimate, VisMethod, VisOptions};
+pub use options::{
+    AdaptiveOptions, ClippingOptions, Estimate, Estimator, MonteCarloOptions, QuadratureOptions, SubdivisionOptions,
+    VisMethod,
+};
 
 /// What the estimators need of a scene: its polygons, its occluders with visibility over
-/// them (ids in `vis` are occluder ids), and cached area rules.
+/// them (ids in `vis` are occluder ids), cached area rules, and the accuracy of the
+/// unobstructed G they compute themselves (`auto`'s `tol`, see [`Known::free`]).
 pub struct Context<'a> {
     pub polygons: &'a [Polygon],
     pub occluders: &'a Occluders,
     pub vis: &'a dyn Visibility,
     pub rules: Option<&'a RuleCache>,
+    pub exact_tol: f64,
 }
 
 impl Context<'_> {
@@ -63,7 +68,8 @@ impl Context<'_> {
 /// whole rows at once).
 #[derive(Debug, Clone, Copy, Default)]
 pub struct Known<'a> {
-    /// The unobstructed G as [`method::area_factor`] with `auto` at `exact_tol` gives it.
+    /// The unobstructed G as [`method::area_factor`] with `auto` at [`Context::exact_tol`]
+    /// gives it.
     pub free: Option<f64>,
     /// A superset of the pair's candidate blockers, sorted (see
     /// [`Visibility::candidates_among`]).
@@ -71,18 +77,22 @@ pub struct Known<'a> {
 }
 
 /// G_ij = A_i F_ij between polygons i and j of the scene, with visibility.
-pub fn pair(ctx: &Context, i: usize, j: usize, m: VisMethod, o: &VisOptions) -> Result<Estimate> {
-    pair_with(ctx, i, j, m, o, Known::default())
+pub fn pair(ctx: &Context, i: usize, j: usize, m: &Estimator) -> Result<Estimate> {
+    pair_with(ctx, i, j, m, Known::default())
 }
 
 /// True when `m` computes a pair with nothing in between by the exact kernel (so a caller
 /// may compute such pairs itself, and [`Known::free`] is the answer for them).
-pub fn exact_when_unobstructed(m: VisMethod, o: &VisOptions) -> bool {
-    o.control_variate || !matches!(m, VisMethod::Quadrature | VisMethod::MonteCarlo)
+pub fn exact_when_unobstructed(m: &Estimator) -> bool {
+    match m {
+        Estimator::Quadrature(o) => o.control_variate,
+        Estimator::MonteCarlo(o) => o.control_variate,
+        _ => true,
+    }
 }
 
 /// [`pair`], using what the caller knows of the pair instead of computing it again.
-pub fn pair_with(ctx: &Context, i: usize, j: usize, m: VisMethod, o: &VisOptions, known: Known) -> Result<Estimate> {
+pub fn pair_with(ctx: &Context, i: usize, j: usize, m: &Estimator, known: Known) -> Result<Estimate> {
     let (a, b) = (&ctx.polygons[i], &ctx.polygons[j]);
     if method::facing(a, b) == method::Facing::None {
         return Ok(Estimate::exact(0.0));
@@ -104,16 +114,16 @@ pub fn pair_with(ctx: &Context, i: usize, j: usize, m: VisMethod, o: &VisOptions
     let exact = || match known.free {
         Some(g) => Ok(g),
         None => {
-            let opts = method::Options { tol: o.exact_tol, ..Default::default() };
+            let opts = method::Options { tol: ctx.exact_tol, ..Default::default() };
             method::area_factor(a, b, Method::Auto, &opts, ctx.rules.map(|r| (r, i, j)))
         }
     };
     if cand.is_empty() {
         // Nothing can block: every method reduces to the unobstructed integral.
         return Ok(match m {
-            _ if exact_when_unobstructed(m, o) => Estimate::exact(exact()?),
-            VisMethod::MonteCarlo => montecarlo(a, b, None, &[], o, i, j),
-            _ => Estimate::exact(quadrature(a, b, None, &[], o.order)),
+            Estimator::MonteCarlo(o) if !o.control_variate => montecarlo(a, b, None, &[], o, i, j),
+            Estimator::Quadrature(o) if !o.control_variate => Estimate::exact(quadrature(a, b, None, &[], o.order)),
+            _ => Estimate::exact(exact()?),
         });
     }
     let blockers = ctx.blockers(&cand);
@@ -121,45 +131,36 @@ pub fn pair_with(ctx: &Context, i: usize, j: usize, m: VisMethod, o: &VisOptions
         return Ok(Estimate::exact(0.0));
     }
     let visible = |x: Vec3, y: Vec3| !ctx.vis.occluded(x, y, &ignore);
-    Ok(match m {
-        VisMethod::Quadrature => {
+    Ok(match *m {
+        Estimator::Quadrature(o) => {
             // the order of this pair from its unobstructed F and the absolute target `tol`
             let free = exact()?;
-            let n = pair_order(free, a, b, o);
+            let n = pair_order(free, a, b, &o);
             if o.control_variate {
                 Estimate::exact(free - quadrature(a, b, Some(&|x, y| !visible(x, y)), &blockers, n))
             } else {
                 Estimate::exact(quadrature(a, b, Some(&visible), &blockers, n))
             }
         }
-        VisMethod::MonteCarlo => {
+        Estimator::MonteCarlo(o) => {
             if o.control_variate {
-                let e = montecarlo(a, b, Some(&|x, y| !visible(x, y)), &blockers, o, i, j);
+                let e = montecarlo(a, b, Some(&|x, y| !visible(x, y)), &blockers, &o, i, j);
                 Estimate { value: exact()? - e.value, std_err: e.std_err }
             } else {
-                montecarlo(a, b, Some(&visible), &blockers, o, i, j)
+                montecarlo(a, b, Some(&visible), &blockers, &o, i, j)
             }
         }
-        VisMethod::Subdivision | VisMethod::Adaptive => {
-            let pieces =
-                if m == VisMethod::Subdivision { Some(subdivide_at_blockers(b, &blockers, o.divisions)) } else { None };
-            let mut g = 0.0;
-            let points = area_source_points(sa, b, &blockers, o.source_points);
-            for (x, w) in points {
-                // [methods] stop at cancellation or when the pair's work budget is spent
-                if !crate::work::go_on() {
-                    break;
-                }
-                let f = match &pieces {
-                    Some(p) => uniform_point(x, a.normal(), p, &|y| visible(x, y)),
-                    None => adaptive_point(x, a.normal(), b, &|y| visible(x, y), o),
-                };
-                g += w * f;
-            }
-            Estimate::exact(g)
+        Estimator::Subdivision(o) => {
+            let pieces = subdivide_at_blockers(b, &blockers, o.divisions);
+            let f = |x: Vec3| uniform_point(x, a.normal(), &pieces, &|y| visible(x, y));
+            Estimate::exact(over_source(sa, b, &blockers, o.source, f))
         }
-        VisMethod::Clipping | VisMethod::Auto => {
-            match o.clip_source {
+        Estimator::Adaptive(o) => {
+            let f = |x: Vec3| adaptive_point(x, a.normal(), b, &|y| visible(x, y), &o);
+            Estimate::exact(over_source(sa, b, &blockers, o.source, f))
+        }
+        Estimator::Clipping(o) => {
+            match o.source {
                 None => {
                     // G = G_free - (integral of the shadowed part): the exact kernel handles
                     // touching pairs, the adaptive rule refines along shadows only.
@@ -176,7 +177,7 @@ pub fn pair_with(ctx: &Context, i: usize, j: usize, m: VisMethod, o: &VisOptions
                     let shadowed = |x: Vec3, bl: &[&Polygon]| point_shadowed_view_factor(x, src.normal(), rec, bl);
                     let start = split_at_kinks(src_part, rec, &blockers);
                     let test = ShadowTest::new(rec_part, &blockers);
-                    let hidden = adaptive_over_source(&start, &blockers, &shadowed, &test, o.tol * free, o);
+                    let hidden = adaptive_over_source(&start, &blockers, &shadowed, &test, o.tol * free, &o);
                     Estimate::exact((free - hidden).clamp(0.0, free))
                 }
                 Some(k) => {
@@ -197,6 +198,26 @@ pub fn pair_with(ctx: &Context, i: usize, j: usize, m: VisMethod, o: &VisOptions
     })
 }
 
+/// Sum of w f(x) over the source points (x, w) of `sa` for the receiver `b` (see
+/// [`area_source_points`]): the dA -> A_j methods' outer integral.
+fn over_source(
+    sa: &Polygon,
+    b: &Polygon,
+    blockers: &[&Polygon],
+    source: Option<usize>,
+    f: impl Fn(Vec3) -> f64,
+) -> f64 {
+    let mut g = 0.0;
+    for (x, w) in area_source_points(sa, b, blockers, source) {
+        // [methods] stop at cancellation or when the pair's work budget is spent
+        if !crate::work::go_on() {
+            break;
+        }
+        g += w * f(x);
+    }
+    g
+}
+
 /// The parts of a and b in front of each other, as polygons; `None` inside when a polygon is
 /// whole (nothing clipped), outer `None` when they exchange nothing.
 fn clip_pair_polygons(a: &Polygon, b: &Polygon) -> Option<(Option<Polygon>, Option<Polygon>)> {
@@ -215,7 +236,7 @@ fn clip_pair_polygons(a: &Polygon, b: &Polygon) -> Option<(Option<Polygon>, Opti
 
 /// F from a differential area (p, unit n) to polygon j of the scene, with visibility.
 /// Nothing coplanar with the receiver blocks (see [`Occluders`]).
-pub fn point(ctx: &Context, p: Vec3, n: Vec3, j: usize, m: VisMethod, o: &VisOptions) -> Result<Estimate> {
+pub fn point(ctx: &Context, p: Vec3, n: Vec3, j: usize, m: &Estimator) -> Result<Estimate> {
     let b = &ctx.polygons[j];
     let ignore = &ctx.ignore([j]);
     // Candidate blockers: a point is a degenerate source polygon, so test against a tiny
@@ -237,8 +258,8 @@ pub fn point(ctx: &Context, p: Vec3, n: Vec3, j: usize, m: VisMethod, o: &VisOpt
         return Ok(Estimate::exact(0.0));
     }
     let visible = |y: Vec3| !ctx.vis.occluded(p, y, ignore);
-    Ok(match m {
-        VisMethod::Quadrature => {
+    Ok(match *m {
+        Estimator::Quadrature(o) => {
             let pieces = subdivide_at_blockers(b, &blockers, o.panels);
             let sum = |pred: &dyn Fn(Vec3) -> bool| -> f64 {
                 let mut total = 0.0;
@@ -263,7 +284,7 @@ pub fn point(ctx: &Context, p: Vec3, n: Vec3, j: usize, m: VisMethod, o: &VisOpt
                 Estimate::exact(sum(&visible))
             }
         }
-        VisMethod::MonteCarlo => {
+        Estimator::MonteCarlo(o) => {
             // strata: the receiver's pieces cut along the blockers' planes, as in the pair form
             let per = (o.samples / RQMC_REPS).max(1);
             let strata: Vec<(PolygonSampler, f64, usize)> = cut_at_blocker_planes(b, &blockers)
@@ -282,10 +303,10 @@ pub fn point(ctx: &Context, p: Vec3, n: Vec3, j: usize, m: VisMethod, o: &VisOpt
             let est: Vec<f64> = est.iter().map(|&mean| if o.control_variate { lambert - mean } else { mean }).collect();
             mean_and_error(&est)
         }
-        VisMethod::Subdivision => {
+        Estimator::Subdivision(o) => {
             Estimate::exact(uniform_point(p, n, &subdivide_at_blockers(b, &blockers, o.divisions), &visible))
         }
-        VisMethod::Adaptive => Estimate::exact(adaptive_point(p, n, b, &visible, o)),
-        VisMethod::Clipping | VisMethod::Auto => Estimate::exact(point_visible_view_factor(p, n, b, &blockers)),
+        Estimator::Adaptive(o) => Estimate::exact(adaptive_point(p, n, b, &visible, &o)),
+        Estimator::Clipping(_) => Estimate::exact(point_visible_view_factor(p, n, b, &blockers)),
     })
 }

@@ -3,7 +3,7 @@
 //! blockers' planes cut the polygons into.
 
 use super::Estimate;
-use super::VisOptions;
+use super::{MonteCarloOptions, QuadratureOptions};
 use crate::geometry::{clip_to_halfspace, Polygon, Vec3};
 use crate::quadrature::AreaRule;
 use crate::sampling::{hash_seed, sobol4, PolygonSampler};
@@ -88,7 +88,7 @@ const MIN_PAIR_ORDER: usize = 2;
 /// step-error bound STEP_ERROR F_free / n meets `o.tol` on F in both directions (F_free =
 /// G / the smaller area), between [`MIN_PAIR_ORDER`] and `o.order`. The target is absolute
 /// on F, so a small (distant) pair needs few points and a large one gets `o.order`.
-pub(super) fn pair_order(g_free: f64, a: &Polygon, b: &Polygon, o: &VisOptions) -> usize {
+pub(super) fn pair_order(g_free: f64, a: &Polygon, b: &Polygon, o: &QuadratureOptions) -> usize {
     let f = g_free / a.area().min(b.area());
     let n = (STEP_ERROR * f / o.tol).ceil();
     // f64::min takes the number over NaN: an F_free that is not a number gets `o.order`
@@ -161,7 +161,7 @@ pub(super) fn montecarlo(
     b: &Polygon,
     pred: Option<&dyn Fn(Vec3, Vec3) -> bool>,
     blockers: &[&Polygon],
-    o: &VisOptions,
+    o: &MonteCarloOptions,
     i: usize,
     j: usize,
 ) -> Estimate {
@@ -255,7 +255,7 @@ mod tests {
 
     #[test]
     fn the_order_falls_with_the_unobstructed_f() {
-        let o = VisOptions { tol: 1e-3, order: 24, ..VisOptions::default() };
+        let o = QuadratureOptions { tol: 1e-3, order: 24, ..QuadratureOptions::default() };
         let (unit, small) = (square(0., 0., 1., 0., true), square(0., 0., 0.1, 1., false));
         // G = A F: unit plates one apart (F 0.1998) need 150 points, so get the most, 24
         assert_eq!(pair_order(0.1998, &unit, &square(0., 0., 1., 1., false), &o), 24);
@@ -264,8 +264,8 @@ mod tests {
         assert_eq!(pair_order(1e-12, &unit, &small, &o), MIN_PAIR_ORDER);
         assert_eq!(pair_order(f64::NAN, &unit, &small, &o), 24);
         // a tight target keeps `order` everywhere; order 1 stays 1
-        assert_eq!(pair_order(1e-12, &unit, &small, &VisOptions { tol: 1e-14, ..o.clone() }), 24);
-        assert_eq!(pair_order(0.2, &unit, &small, &VisOptions { order: 1, ..o }), 1);
+        assert_eq!(pair_order(1e-12, &unit, &small, &QuadratureOptions { tol: 1e-14, ..o }), 24);
+        assert_eq!(pair_order(0.2, &unit, &small, &QuadratureOptions { order: 1, ..o }), 1);
     }
 
     #[test]

@@ -3,7 +3,7 @@
 
 use super::rules::centroid3;
 use super::sampled::{cut_at_blocker_planes, per_direction};
-use super::VisOptions;
+use super::AdaptiveOptions;
 use crate::geometry::{Polygon, Vec3};
 use crate::quadrature::adaptive::{refine_locally, split_in_four, Step};
 use crate::unobstructed::analytic;
@@ -61,7 +61,13 @@ pub(super) fn uniform_point(x: Vec3, n: Vec3, pieces: &[[Vec3; 3]], visible: &dy
 /// contribution (Lambert) exceeds `tol`, down to `max_depth`; there the visible fraction of
 /// the samples weights it. Pieces whose samples agree are still refined to `MIN_DEPTH`
 /// levels, so that a shadow smaller than a first-level piece is not missed between samples.
-pub(super) fn adaptive_point(x: Vec3, n: Vec3, b: &Polygon, visible: &dyn Fn(Vec3) -> bool, o: &VisOptions) -> f64 {
+pub(super) fn adaptive_point(
+    x: Vec3,
+    n: Vec3,
+    b: &Polygon,
+    visible: &dyn Fn(Vec3) -> bool,
+    o: &AdaptiveOptions,
+) -> f64 {
     // 2 levels (16 pieces per triangle, 7 samples each) find shadows of blockers down to about
     // a tenth of the receiver (16 blockers of 0.1 between unit plates: 9e-4 at tol 1e-4);
     // 4 levels cost 2.5x as much for the same accuracy on bench/methods.py's pairs.
@@ -107,7 +113,7 @@ mod tests {
         // (additivity), whatever the refinement; half hidden by the plane y = 0.5 (an edge the
         // pieces resolve to max_depth): within the depth's strip width of the exact half.
         let (x, n, b) = (Vec3::new(0.3, 0.4, 0.0), Vec3::Z, plate(1.0));
-        let o = VisOptions { tol: 1e-9, max_depth: 10, ..Default::default() };
+        let o = AdaptiveOptions { tol: 1e-9, max_depth: 10, ..Default::default() };
         let whole = analytic::point_polygon(x, n, b.vertices());
         let all = adaptive_point(x, n, &b, &|_| true, &o);
         assert!((all - whole).abs() <= 1e-14 * whole, "{all} vs {whole}");

@@ -86,20 +86,16 @@ impl Scene {
             AnyMethod::Exact(_) => None,
             AnyMethod::Visible(vm) => Some(vm),
         };
-        let ctx = if obstructed && !self.polygons.is_empty() { Some(self.context()?) } else { None };
+        let ctx = if obstructed && !self.polygons.is_empty() { Some(self.pair_context(o)?) } else { None };
         let targets = self.targets(ctx.as_ref());
-        let vo = {
-            let mut vo = o.vis.clone();
-            vo.exact_tol = o.exact.tol;
-            vo
-        };
+        let est = vm.map(|vm| o.estimator(vm));
         let sampled = matches!(vm, Some(VisMethod::MonteCarlo));
         let hard = |p: Vec3, n: Vec3, j: usize, blockers: &[&Polygon]| -> Result<f64> {
             match vm {
                 Some(VisMethod::Auto | VisMethod::Clipping) | None => {
                     Ok(point_visible_view_factor(p, n, &self.polygons[j], blockers))
                 }
-                Some(vm) => Ok(obstructed::point(ctx.as_ref().unwrap(), p, n, j, vm, &vo)?.value),
+                Some(_) => Ok(obstructed::point(ctx.as_ref().unwrap(), p, n, j, est.as_ref().unwrap())?.value),
             }
         };
         // Monte Carlo carries a standard error: such pairs go through the per-point estimator.
@@ -108,7 +104,7 @@ impl Scene {
             let rows: Vec<Result<Vec<(u32, f64, f64)>>> = per_point(points, normals, cancel, |p, n| {
                 let mut row = Vec::new();
                 for &j in &targets.order {
-                    let e = obstructed::point(c, p, n, j as usize, VisMethod::MonteCarlo, &vo)?;
+                    let e = obstructed::point(c, p, n, j as usize, est.as_ref().unwrap())?;
                     if e.value != 0.0 || e.std_err != 0.0 {
                         row.push((j, e.value, e.std_err));
                     }
@@ -546,7 +542,7 @@ mod tests {
             let sum: f64 = b.g[lo..hi].iter().sum();
             assert!((sum - 1.0).abs() < 1e-12, "point {k}: row sum {sum}");
             for j in 0..n {
-                let want = obstructed::point(&ctx, p, nv, j, VisMethod::Auto, &o.vis).unwrap().value;
+                let want = obstructed::point(&ctx, p, nv, j, &o.estimator(VisMethod::Auto)).unwrap().value;
                 let got = row.get(&(j as i32)).copied().unwrap_or(0.0);
                 assert!((got - want).abs() <= 1e-13, "point {k} polygon {j}: {got} against {want}");
                 hidden += (want < analytic::point_polygon(p, nv, scene.polygons[j].vertices()) * (1.0 - 1e-9)) as usize;

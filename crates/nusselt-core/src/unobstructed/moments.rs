@@ -208,22 +208,19 @@ pub(crate) fn moment_rule_formula(
     (area_product / PI) * t * t * bracket.max(0.0)
 }
 
+/// [`moment_rule_formula`] on two polygons' [`Moments`].
+#[inline(always)]
+fn on_moments(a: &Moments, b: &Moments, fourth: bool) -> f64 {
+    let (d, ab) = (b.centroid - a.centroid, a.area * b.area);
+    moment_rule_formula(d, a.normal, b.normal, &a.m, &b.m, &a.edges, &b.edges, ab, fourth)
+}
+
 /// A_a F_ab by the second-moment rule (see the module docs); valid for a pair in which each
 /// polygon lies in the other's closed front half-space and far apart compared with its size.
 /// Symmetric in a and b up to rounding.
 #[inline(always)]
 pub fn moment_pair(a: &Moments, b: &Moments) -> f64 {
-    moment_rule_formula(
-        b.centroid - a.centroid,
-        a.normal,
-        b.normal,
-        &a.m,
-        &b.m,
-        &a.edges,
-        &b.edges,
-        a.area * b.area,
-        false,
-    )
+    on_moments(a, b, false)
 }
 
 /// A_a F_ab by the fourth-order moment rule (module docs); for two parallelograms (e.g.
@@ -231,17 +228,7 @@ pub fn moment_pair(a: &Moments, b: &Moments) -> f64 {
 /// apart compared with their size. Symmetric in a and b up to rounding.
 #[inline(always)]
 pub fn moment4_pair(a: &Moments, b: &Moments) -> f64 {
-    moment_rule_formula(
-        b.centroid - a.centroid,
-        a.normal,
-        b.normal,
-        &a.m,
-        &b.m,
-        &a.edges,
-        &b.edges,
-        a.area * b.area,
-        true,
-    )
+    on_moments(a, b, true)
 }
 
 /// The centroid (one-point) rule: A_a A_b K(c_b - c_a), for comparison and for pairs so far
