@@ -132,6 +132,38 @@ def test_a_long_unobstructed_montecarlo_pair_stops_at_its_budget():
         nusselt.view_factor(A, B, method="montecarlo", samples=2**24, control_variate=False, budget=2**20)
 
 
+@pytest.fixture(scope="module")
+def ten_thousand_blockers():
+    """10 000 small squares (0.004 wide, a 100 x 100 grid) midway between A and B."""
+    w, step = 0.004, 0.01
+    return [
+        rect(step * a + 0.003, step * a + 0.003 + w, step * b + 0.003, step * b + 0.003 + w, z=0.5)
+        for a in range(100)
+        for b in range(100)
+    ]
+
+
+#: Methods whose unit is one sample or ray whatever the number of blockers (the BVH answers
+#: each): 2^16 units are their default samples, and the pair finishes.
+PER_SAMPLE = {"montecarlo", "raytrace"}
+
+
+@pytest.mark.parametrize("method", list(METHODS))
+def test_a_pair_with_ten_thousand_blockers_stops_at_its_budget(method, ten_thousand_blockers):
+    """Work that grows with the blockers (shadows per blocker, visible pieces, cells tested
+    against candidates) is counted: at a budget of 2^16 units the pair is the budget error,
+    not minutes of work; the per-sample methods finish with a value below the free F."""
+
+    def call():
+        return nusselt.view_factor(A, B, obstacles=ten_thousand_blockers, method=method, budget=2**16)
+
+    if method in PER_SAMPLE:
+        assert 0.0 <= call() < nusselt.view_factor(A, B, method="analytic")
+        return
+    with pytest.raises(ValueError, match=rf'method "{method}": (pair \(0, 1\)|row 0) needs more than budget=65536\b'):
+        call()
+
+
 def _interrupt_after(seconds):
     t = threading.Timer(seconds, _thread.interrupt_main)
     t.start()

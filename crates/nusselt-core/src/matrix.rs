@@ -13,6 +13,12 @@ use std::sync::atomic::{AtomicBool, Ordering};
 /// `pair(i, j)` returns as `Some` (None: nothing exchanged, not stored). `skip(i, j)` is a
 /// cheap test that the pair exchanges nothing (e.g. j behind i), checked first. Stops early
 /// with `Error::Cancelled` when `cancel` is set.
+///
+/// The pairs of all the rows are one parallel loop, so rayon balances pairs, not rows: the
+/// cost of a pair varies a thousandfold (an obstructed pair of a sampled method against a
+/// free one), and rows split among threads leave a core idle while the other finishes a few
+/// expensive rows at the end of each block. Each pair is computed on its own, so the values
+/// do not depend on how the pairs are split.
 pub fn upper_pair_rows<T, P, S>(
     n: usize,
     rows: &[usize],
@@ -27,26 +33,34 @@ where
     S: Fn(usize, usize) -> bool + Sync,
 {
     check_rows(n, rows, receiver)?;
-    rows.par_iter()
-        .map(|&i| {
+    // first[r]: flat index of the pair (rows[r], rows[r] + 1); a non-receiver row has none
+    let mut first = Vec::with_capacity(rows.len() + 1);
+    first.push(0usize);
+    for &i in rows {
+        let len = if receiver[i] { n - i - 1 } else { 0 };
+        first.push(first[first.len() - 1] + len);
+    }
+    let row_of = |k: usize| first.partition_point(|&s| s <= k) - 1;
+    let found: Vec<(usize, T)> = (0..first[rows.len()])
+        .into_par_iter()
+        .filter_map(|k| {
             if cancel.load(Ordering::Relaxed) {
-                return Err(Error::Cancelled);
+                return Some(Err(Error::Cancelled));
             }
-            let mut row = Vec::new();
-            if !receiver[i] {
-                return Ok(row);
+            let r = row_of(k);
+            let (i, j) = (rows[r], rows[r] + 1 + (k - first[r]));
+            if !receiver[j] || skip(i, j) {
+                return None;
             }
-            for j in i + 1..n {
-                if !receiver[j] || skip(i, j) {
-                    continue;
-                }
-                if let Some(g) = pair(i, j)? {
-                    row.push((j as u32, g));
-                }
-            }
-            Ok(row)
+            pair(i, j).map(|g| g.map(|g| (k, g))).transpose()
         })
-        .collect()
+        .collect::<Result<_>>()?;
+    let mut out: Vec<Vec<(u32, T)>> = rows.iter().map(|_| Vec::new()).collect();
+    for (k, g) in found {
+        let r = row_of(k);
+        out[r].push(((rows[r] + 1 + (k - first[r])) as u32, g));
+    }
+    Ok(out)
 }
 
 /// Whole rows from a per-row method (hemisphere sampling): `row(i)` returns F_i. directly.
@@ -542,6 +556,41 @@ mod tests {
         assert_eq!(out[0], vec![(1, 1.0), (3, 3.0), (4, 4.0)]);
         assert!(out[2].is_empty());
         assert_eq!(out[3], vec![(4, 34.0)]);
+    }
+
+    #[test]
+    fn upper_rows_do_not_depend_on_thread_count_or_row_order() {
+        // rows of unequal length and pairs of unequal cost, in any order, skipped pairs
+        // and a non-receiver: the same rows on 1 and 3 threads, in the order asked
+        let n = 40;
+        let receiver: Vec<bool> = (0..n).map(|i| i != 7).collect();
+        let rows: Vec<usize> = vec![5, 0, 39, 7, 12, 30, 1];
+        let run = |threads| {
+            let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+            pool.install(|| {
+                upper_pair_rows(
+                    n,
+                    &rows,
+                    &receiver,
+                    &AtomicBool::new(false),
+                    |i, j| (i + j) % 5 == 0,
+                    |i, j| {
+                        let spin: f64 = (0..(i * j) % 97 * 100).map(|k| (k as f64).sqrt()).sum();
+                        Ok(((i * j) % 3 != 0).then_some(i as f64 + j as f64 / 100.0 + spin * 0.0))
+                    },
+                )
+                .unwrap()
+            })
+        };
+        let one = run(1);
+        assert_eq!(one, run(3));
+        for (r, &i) in rows.iter().enumerate() {
+            let want: Vec<(u32, f64)> = (i + 1..n)
+                .filter(|&j| receiver[i] && receiver[j] && (i + j) % 5 != 0 && (i * j) % 3 != 0)
+                .map(|j| (j as u32, i as f64 + j as f64 / 100.0))
+                .collect();
+            assert_eq!(one[r], want, "row {i}");
+        }
     }
 
     #[test]
