@@ -95,6 +95,33 @@ def test_killing_a_worker_loses_no_finished_block(client, tmp_path):
     client.wait_for_workers(2, timeout=30)
 
 
+class _CancelsFirstBlock:
+    """A client whose first block task is cancelled as soon as it is submitted, as the
+    scheduler does with a task it forgot when a worker died handing over its result."""
+
+    def __init__(self, client):
+        self._client, self.cancelled = client, []
+
+    def submit(self, *args, **kwargs):
+        f = self._client.submit(*args, **kwargs)
+        if not self.cancelled and "nusselt-block" in str(kwargs.get("key")):
+            self._client.cancel([f])
+            self.cancelled.append(kwargs["key"])
+        return f
+
+    def __getattr__(self, name):
+        return getattr(self._client, name)
+
+
+def test_a_block_the_scheduler_cancels_is_computed_again(client):
+    scene = _scene()
+    local = nusselt.form_factors(scene, block_size=100)
+    flaky = _CancelsFirstBlock(client)
+    far = nusselt.form_factors(scene, block_size=100, client=flaky)
+    assert len(flaky.cancelled) == 1  # one block was lost and had to be resubmitted
+    _same(local, far)
+
+
 def test_cli_dask_local(tmp_path):
     from nusselt.cli import main
 

@@ -19,6 +19,7 @@ from __future__ import annotations
 import hashlib
 import uuid
 from collections.abc import Callable
+from concurrent.futures import CancelledError
 from typing import Any
 
 import numpy as np
@@ -133,8 +134,10 @@ def run_blocks(
         # keys fresh per run: a key the scheduler still holds from an earlier, cancelled or
         # released run of the same blocks would hand its fate (cancelled) to this one
         run = uuid.uuid4().hex[:12]
-        futures = {}
-        for start, stop in todo:
+        futures: dict = {}
+        resubmits = dict.fromkeys(plan, 0)
+
+        def submit(start: int, stop: int, attempt: int = 0):
             f = client.submit(
                 compute_block,
                 shipped,
@@ -142,16 +145,32 @@ def run_blocks(
                 method,
                 opts,
                 kind,
-                key=f"nusselt-block-{tag}-{run}-{start}",
+                key=f"nusselt-block-{tag}-{run}-{start}" + (f"-again{attempt}" if attempt else ""),
                 retries=RETRIES,
                 pure=False,
             )
             futures[f] = (start, stop)
+            return f
+
+        for start, stop in todo:
+            submit(start, stop)
         try:
-            for f in as_completed(futures):
+            pending = as_completed(list(futures))
+            for f in pending:
                 start, stop = futures.pop(f)
+                try:
+                    result = f.result()
+                except CancelledError:
+                    # the scheduler may forget a task whose worker died while its result was
+                    # being handed over ("already forgotten"): compute that block again,
+                    # under a new key, a bounded number of times
+                    if resubmits[start] >= RETRIES:
+                        raise
+                    resubmits[start] += 1
+                    pending.add(submit(start, stop, resubmits[start]))
+                    continue
                 # arrays off the wire may be unaligned views of the message: made aligned
-                parts = [None if a is None else np.require(a, requirements=["C", "A"]) for a in f.result()]
+                parts = [None if a is None else np.require(a, requirements=["C", "A"]) for a in result]
                 b = Block(plan[start], *parts)  # type: ignore[arg-type]
                 if checkpoint is not None:
                     checkpoint.save(index, start, stop, b)
