@@ -41,7 +41,7 @@ where
         first.push(first[first.len() - 1] + len);
     }
     let row_of = |k: usize| first.partition_point(|&s| s <= k) - 1;
-    let found: Vec<(usize, T)> = (0..first[rows.len()])
+    let found: Vec<(usize, u32, T)> = (0..first[rows.len()])
         .into_par_iter()
         .filter_map(|k| {
             if cancel.load(Ordering::Relaxed) {
@@ -52,13 +52,13 @@ where
             if !receiver[j] || skip(i, j) {
                 return None;
             }
-            pair(i, j).map(|g| g.map(|g| (k, g))).transpose()
+            pair(i, j).map(|g| g.map(|g| (r, j as u32, g))).transpose()
         })
         .collect::<Result<_>>()?;
+    // in flat order, so each row's columns come out ascending
     let mut out: Vec<Vec<(u32, T)>> = rows.iter().map(|_| Vec::new()).collect();
-    for (k, g) in found {
-        let r = row_of(k);
-        out[r].push(((rows[r] + 1 + (k - first[r])) as u32, g));
+    for (r, j, g) in found {
+        out[r].push((j, g));
     }
     Ok(out)
 }
