@@ -625,3 +625,42 @@ fn box_shafts_keep_every_real_blocker_and_narrow_like_the_pair_shaft() {
     // the pair query restricted to the box's answer is almost always the pair query itself
     assert!(narrowed < real / 4, "{narrowed} candidates lost against {real} real blockers");
 }
+
+/// Depth of the four-wide tree below wide node `w` (1 for a node with leaves only).
+fn wide_depth(bvh: &Bvh, w: usize) -> usize {
+    let node = &bvh.wide[w];
+    1 + (0..4)
+        .filter(|&k| node.count[k] == 0 && node.lo[0][k] <= node.hi[0][k])
+        .map(|k| wide_depth(bvh, node.child[k] as usize))
+        .max()
+        .unwrap_or(0)
+}
+
+#[test]
+fn a_tree_deeper_than_the_traversal_stack_matches_brute_force() {
+    // Squares of halving size and distance along x (a geometric chain: every split peels
+    // off the largest), so the tree is deeper than the fixed traversal stack holds and the
+    // traversal spills into its overflow list. Rays along the chain and across it must find
+    // the hits brute force finds.
+    let polys: Vec<Polygon> = (0..400)
+        .map(|k| {
+            let s = 0.9f64.powi(k);
+            rect(0, s, (-0.3 * s, 0.3 * s), (-0.3 * s, 0.3 * s), k % 2 == 0)
+        })
+        .collect();
+    let bvh = Bvh::new(&polys).unwrap();
+    let depth = wide_depth(&bvh, 0);
+    assert!(depth > 22, "the chain's tree is only {depth} levels deep");
+    let mut rng = Rng::new(11);
+    for _ in 0..2000 {
+        let o = Vec3::new(rng.range(-0.1, 1.2), rng.range(-0.05, 0.05), rng.range(-0.05, 0.05));
+        let d = (Vec3::new(rng.range(-1.0, 1.0), rng.range(-0.05, 0.05), rng.range(-0.05, 0.05))).normalize();
+        let got = bvh.first_hit(o, d, 0.0, 3.0, &[]).map(|h| h.t);
+        let want = brute_first_hit(&polys, o, d, 0.0, 3.0).map(|w| w.1);
+        match (got, want) {
+            (None, None) => {}
+            (Some(g), Some(w)) => assert!((g - w).abs() < 1e-12, "t {g} vs {w}"),
+            (g, w) => panic!("bvh {g:?} vs brute force {w:?}"),
+        }
+    }
+}
