@@ -350,11 +350,9 @@ def memory_estimate(n: int, dense: bool = False) -> tuple[int, int | None]:
 
 
 def _threads() -> int:
-    """How many threads the core's pool runs (its size: RAYON_NUM_THREADS, else the CPUs)."""
-    try:
-        return max(1, int(os.environ.get("RAYON_NUM_THREADS", "")))
-    except ValueError:
-        return max(1, len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1))
+    """How many threads the core's pool runs (NUSSELT_NUM_THREADS, else RAYON_NUM_THREADS,
+    else the CPUs)."""
+    return int(_core.num_threads())
 
 
 def _progress(enabled: bool, total: int, desc: str):

@@ -1,15 +1,23 @@
 //! The worker pool, fork-safe: a child process created by fork() does not inherit the
 //! parent's threads, so it must not use the parent's pool; it builds its own on first use.
+use pyo3::prelude::*;
 use std::sync::{Arc, Mutex};
 
 static POOL: Mutex<Option<(u32, Arc<rayon::ThreadPool>)>> = Mutex::new(None);
 
+/// The pool's size: `NUSSELT_NUM_THREADS`, else `RAYON_NUM_THREADS` (what rayon users set,
+/// and what our benchmarks and docs use), else the CPUs this process may run on.
 fn threads() -> usize {
-    std::env::var("NUSSELT_NUM_THREADS")
-        .ok()
-        .and_then(|s| s.parse().ok())
-        .filter(|&n| n > 0)
+    ["NUSSELT_NUM_THREADS", "RAYON_NUM_THREADS"]
+        .iter()
+        .find_map(|v| std::env::var(v).ok().and_then(|s| s.trim().parse().ok()).filter(|&n: &usize| n > 0))
         .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()))
+}
+
+/// How many worker threads the core computes with (starts the pool if need be).
+#[pyfunction]
+pub fn num_threads() -> usize {
+    pool().current_num_threads()
 }
 
 /// The pool of this process (rebuilt after a fork, detected by the process id).

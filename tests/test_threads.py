@@ -1,0 +1,46 @@
+"""The core's worker pool: its size follows NUSSELT_NUM_THREADS, else RAYON_NUM_THREADS (what
+benchmarks and rayon users set), else the CPUs; and every result is the same whatever it is."""
+
+import os
+import subprocess
+import sys
+
+import numpy as np
+
+import nusselt
+from nusselt.data import cornell_box
+
+PROBE = "import nusselt._core as c; print(c.num_threads())"
+
+
+def _pool_size(**env):
+    clean = {k: v for k, v in os.environ.items() if k not in ("NUSSELT_NUM_THREADS", "RAYON_NUM_THREADS")}
+    out = subprocess.run(
+        [sys.executable, "-c", PROBE], env={**clean, **env}, capture_output=True, text=True, check=True
+    )
+    return int(out.stdout)
+
+
+def test_the_pool_size_follows_the_environment():
+    cpus = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count()
+    assert _pool_size() == cpus
+    assert _pool_size(RAYON_NUM_THREADS="1") == 1
+    assert _pool_size(RAYON_NUM_THREADS="3") == 3
+    # ours wins over rayon's; unset, empty or nonsense values fall through to the next
+    assert _pool_size(NUSSELT_NUM_THREADS="2", RAYON_NUM_THREADS="1") == 2
+    assert _pool_size(NUSSELT_NUM_THREADS="x", RAYON_NUM_THREADS="1") == 1
+    assert _pool_size(NUSSELT_NUM_THREADS="0") == cpus
+
+
+def test_results_do_not_depend_on_the_pool_size(tmp_path):
+    # the Cornell box (obstructed: two blocks inside), computed in processes with 1 and 3
+    # threads, is bit for bit the result of this process
+    here = nusselt.form_factors(cornell_box()).dense()
+    script = "import sys, numpy as np, nusselt; from nusselt.data import cornell_box\n" + (
+        "np.save(sys.argv[1], nusselt.form_factors(cornell_box()).dense())"
+    )
+    env = {k: v for k, v in os.environ.items() if k != "NUSSELT_NUM_THREADS"}
+    for n in ("1", "3"):
+        path = tmp_path / f"f{n}.npy"
+        subprocess.run([sys.executable, "-c", script, str(path)], env={**env, "RAYON_NUM_THREADS": n}, check=True)
+        assert np.array_equal(np.load(path), here), n
