@@ -27,7 +27,7 @@ use crate::visibility::shadow::{
     hides_whole, point_free_and_shadowed, point_shadowed_view_factor, point_visible_view_factor,
 };
 use crate::visibility::{Occluders, Visibility};
-use clipping::{adaptive_over_source, clearance, ShadowTest};
+use clipping::{adaptive_over_source, clearance, cut_to_slab, ShadowTest};
 use kinks::split_at_kinks;
 use rules::{area_source_points, source_points};
 use sampled::{
@@ -177,7 +177,10 @@ pub fn pair_with(ctx: &Context, i: usize, j: usize, m: &Estimator, known: Known)
                     let shadowed = |x: Vec3, bl: &[&Polygon]| point_shadowed_view_factor(x, src.normal(), rec, bl);
                     let start = split_at_kinks(src_part, rec, &blockers);
                     let test = ShadowTest::new(rec_part, &blockers);
-                    let hidden = adaptive_over_source(&start, &blockers, &shadowed, &test, o.tol * free, &o);
+                    let cut = cut_to_slab(src, rec, &blockers);
+                    let casters: Vec<&Polygon> =
+                        blockers.iter().zip(&cut).map(|(b, c)| c.as_ref().unwrap_or(b)).collect();
+                    let hidden = adaptive_over_source(&start, &blockers, &shadowed, &casters, &test, o.tol * free, &o);
                     Estimate::exact((free - hidden).clamp(0.0, free))
                 }
                 Some(k) => {
