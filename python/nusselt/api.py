@@ -273,63 +273,36 @@ def form_factors(
 
     bar = _progress(progress, total=nr, desc=f"nusselt {method}")
     held: list[tuple[int, int, blocks.Block]] = []  # finished, in memory only (deferred checkpoint)
-    try:
+
+    def run_all() -> list[blocks.Block]:
         try:
             if client is not None:
                 from . import distributed
 
-                done = distributed.run_blocks(
+                return distributed.run_blocks(
                     client, scene, method, opts, kind, recv, block_size, checkpoint=ckpt, progress_bar=bar, keep=keep
                 )
-            else:
-                done = blocks.run_blocks(
-                    compute,
-                    recv,
-                    kind,
-                    block_size,
-                    checkpoint=ckpt,
-                    progress_bar=bar,
-                    keep=keep,
-                    threads=_threads(),
-                    later=later,
-                    write_after=write_after,
-                    held=held,
-                )
+            return blocks.run_blocks(
+                compute,
+                recv,
+                kind,
+                block_size,
+                checkpoint=ckpt,
+                progress_bar=bar,
+                keep=keep,
+                threads=_threads(),
+                later=later,
+                write_after=write_after,
+                held=held,
+            )
         finally:
             if bar is not None:
                 bar.close()
             if ckpt is not None:
                 ckpt.close()
 
-        areas = scene.areas[recv]
-        std = lost = reciprocity = None
-        dropped = 0.0
-        if kind == "pairs":
-            reciprocity = assembly.pair_reciprocity(done, scene_areas, value_type)
-            matrix, std = assembly.assemble_pairs(done, col_of, areas, value_type)
-            dropped = float(dropped_mass[recv].max()) if nr and threshold > 0.0 else 0.0
-        else:
-            matrix, std, lost = assembly.assemble_rows(done, col_of, nr, value_type)
-            if threshold > 0.0:
-                matrix, std, dropped = assembly.threshold_matrix(matrix, std, threshold)
-        if threshold == 0.0:  # a threshold may empty a row legitimately
-            warn_zero_rows(scene, matrix, recv)
-        names = [f"{scene.surface_names[scene.surface[k]]}[{k}]" for k in recv]
-        result = FormFactors(
-            matrix.toarray() if dense else matrix,
-            areas,
-            names,
-            recv,
-            method,
-            surface=scene.surface[recv],
-            surface_names=scene.surface_names,
-            std_err=std,
-            lost=lost,
-            info={"options": opts, "threshold": threshold, "dropped": dropped},
-        )
-        if reciprocity is not None and not dense:
-            result._seed_measures(reciprocity_error=reciprocity)
-        return result
+    try:
+        return _assemble(scene, run_all(), kind, recv, col_of, value_type, dense, threshold, dropped_mass, method, opts)
     except KeyboardInterrupt:
         if not held:
             raise  # run_blocks said where the finished blocks are, or none were finished
@@ -340,6 +313,55 @@ def form_factors(
             f"interrupted after all {nr} rows were computed: they were saved to checkpoint {saved.path}; "
             f"the same call with checkpoint={saved.path!r}, resume=True assembles them (CLI: --resume)"
         ) from None
+
+
+def _assemble(
+    scene: Scene,
+    done: list[blocks.Block],
+    kind: str,
+    recv: np.ndarray,
+    col_of: np.ndarray,
+    value_type: Any,
+    dense: bool,
+    threshold: float,
+    dropped_mass: np.ndarray,
+    method: str,
+    opts: dict[str, Any],
+) -> FormFactors:
+    """The finished blocks of :func:`form_factors` as its result: the matrix over the
+    receivers `recv` (pairs mirrored and divided by the areas, or rows), its trust measures
+    and the mass a `threshold` dropped (`dropped_mass`, per polygon, for pair blocks)."""
+    scene_areas = np.asarray(scene.areas, dtype=np.float64)
+    areas = scene.areas[recv]
+    std = lost = reciprocity = None
+    dropped = 0.0
+    nr = len(recv)
+    if kind == "pairs":
+        reciprocity = assembly.pair_reciprocity(done, scene_areas, value_type)
+        matrix, std = assembly.assemble_pairs(done, col_of, areas, value_type)
+        dropped = float(dropped_mass[recv].max()) if nr and threshold > 0.0 else 0.0
+    else:
+        matrix, std, lost = assembly.assemble_rows(done, col_of, nr, value_type)
+        if threshold > 0.0:
+            matrix, std, dropped = assembly.threshold_matrix(matrix, std, threshold)
+    if threshold == 0.0:  # a threshold may empty a row legitimately
+        warn_zero_rows(scene, matrix, recv)
+    names = [f"{scene.surface_names[scene.surface[k]]}[{k}]" for k in recv]
+    result = FormFactors(
+        matrix.toarray() if dense else matrix,
+        areas,
+        names,
+        recv,
+        method,
+        surface=scene.surface[recv],
+        surface_names=scene.surface_names,
+        std_err=std,
+        lost=lost,
+        info={"options": opts, "threshold": threshold, "dropped": dropped},
+    )
+    if reciprocity is not None and not dense:
+        result._seed_measures(reciprocity_error=reciprocity)
+    return result
 
 
 def memory_estimate(n: int, dense: bool = False) -> tuple[int, int | None]:

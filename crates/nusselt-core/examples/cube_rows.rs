@@ -1,8 +1,8 @@
 //! Times `auto` pair rows of the closed unit cube with n x n squares per face (no Python):
 //!     cargo run --release -p nusselt-core --example cube_rows -- 32 0.03
 use nusselt_core::matrix::{mirror_upper, UpperRow};
-use nusselt_core::obstructed::VisMethod;
-use nusselt_core::scene::{AllOptions, AnyMethod, Scene};
+use nusselt_core::scene::{AnyMethod, Scene};
+use nusselt_core::unobstructed::method::AutoOptions;
 use nusselt_core::Vec3;
 use std::sync::atomic::AtomicBool;
 use std::time::Instant;
@@ -21,12 +21,11 @@ fn main() {
     let t = Instant::now();
     assert!(scene.unobstructed());
     println!("unobstructed check: {:.3} s", t.elapsed().as_secs_f64());
-    let mut o = AllOptions::default();
-    o.exact.tol = tol;
+    let m = AnyMethod::Auto(AutoOptions { tol, ..Default::default() });
     let rows: Vec<usize> = (0..n).collect();
     for _ in 0..2 {
         let t = Instant::now();
-        let b = scene.pair_block(&rows, AnyMethod::Visible(VisMethod::Auto), &o, &AtomicBool::new(false)).unwrap();
+        let b = scene.pair_block(&rows, &m, &AtomicBool::new(false)).unwrap();
         let t1 = t.elapsed().as_secs_f64();
         let pairs = n * (n - 1) / 2;
         println!(

@@ -9,8 +9,9 @@
 //!       time the candidate-blocker query of every facing pair
 //!   cargo run --release --example obstructed_room -- points N
 //!       time single evaluations of the shadowed point F on obstructed pairs
-use nusselt_core::obstructed::VisMethod;
-use nusselt_core::scene::{AllOptions, AnyMethod, Scene};
+use nusselt_core::obstructed::ClippingOptions;
+use nusselt_core::scene::{AnyMethod, Scene};
+use nusselt_core::unobstructed::method::AutoOptions;
 use nusselt_core::visibility::shadow::point_shadowed_view_factor;
 use nusselt_core::visibility::{Bvh, Visibility};
 use nusselt_core::Polygon;
@@ -33,13 +34,13 @@ fn main() {
             let np = polys.len();
             let scene = Scene::new(polys, vec![true; np]).unwrap();
             let source: Option<usize> = args.get(5).and_then(|s| s.parse().ok());
-            let mut o = AllOptions::default();
-            o.clipping.tol = tol;
-            o.clipping.source = source;
+            let m = match source {
+                Some(_) => AnyMethod::Clipping(ClippingOptions { tol, source, ..Default::default() }),
+                None => AnyMethod::Auto(AutoOptions { obstructed_tol: tol, ..Default::default() }),
+            };
             let rows: Vec<usize> = (0..np).step_by(stride).collect();
             let t0 = Instant::now();
-            let m = if source.is_some() { VisMethod::Clipping } else { VisMethod::Auto };
-            let r = scene.pair_rows(&rows, AnyMethod::Visible(m), &o, &AtomicBool::new(false)).unwrap();
+            let r = scene.pair_rows(&rows, &m, &AtomicBool::new(false)).unwrap();
             let dt = t0.elapsed().as_secs_f64();
             let pairs: usize = r.iter().map(|x| x.len()).sum();
             if let Ok(path) = std::env::var("DUMP") {
@@ -125,17 +126,9 @@ fn main() {
             let j: usize = args[4].parse().unwrap();
             let tol: f64 = args.get(5).and_then(|s| s.parse().ok()).unwrap_or(1e-6);
             let obs: Vec<Polygon> = (0..polys.len()).filter(|&k| k != i && k != j).map(|k| polys[k].clone()).collect();
-            let mut o = AllOptions::default();
-            o.clipping.tol = tol;
+            let m = AnyMethod::Auto(AutoOptions { obstructed_tol: tol, ..Default::default() });
             let t0 = Instant::now();
-            let e = nusselt_core::scene::pair_view_factor(
-                polys[i].clone(),
-                polys[j].clone(),
-                obs,
-                AnyMethod::Visible(VisMethod::Auto),
-                &o,
-            )
-            .unwrap();
+            let e = nusselt_core::scene::pair_view_factor(polys[i].clone(), polys[j].clone(), obs, &m).unwrap();
             println!("F {:.15e} in {:.3} s", e.value, t0.elapsed().as_secs_f64());
         }
         _ => panic!("mode rows|cands|points|pair"),

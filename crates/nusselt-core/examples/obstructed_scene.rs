@@ -9,8 +9,8 @@
 //!       time the pair (I, J) alone
 #[path = "common/polygon_file.rs"]
 mod polygon_file;
-use nusselt_core::obstructed::VisMethod;
-use nusselt_core::scene::{AllOptions, AnyMethod, Scene};
+use nusselt_core::scene::{AnyMethod, Scene};
+use nusselt_core::unobstructed::method::AutoOptions;
 use nusselt_core::Polygon;
 use polygon_file::read_polygons;
 use std::sync::atomic::AtomicBool;
@@ -23,9 +23,7 @@ fn main() {
     let polys = read_polygons(&args[1]);
     let n = polys.len();
     let scene = Scene::new(polys, vec![true; n]).unwrap();
-    let mut o = AllOptions::default();
-    o.clipping.tol = tol;
-    let m = AnyMethod::Visible(VisMethod::Auto);
+    let m = AnyMethod::Auto(AutoOptions { obstructed_tol: tol, ..Default::default() });
     let never = AtomicBool::new(false);
     if let (Some(i), Some(j)) =
         (args.get(4).and_then(|s| s.parse::<usize>().ok()), args.get(5).and_then(|s| s.parse::<usize>().ok()))
@@ -34,7 +32,7 @@ fn main() {
         let p = scene.polygons();
         let obs: Vec<Polygon> = (0..n).filter(|&k| k != i && k != j).map(|k| p[k].clone()).collect();
         let t = Instant::now();
-        let e = nusselt_core::scene::pair_view_factor(p[i].clone(), p[j].clone(), obs, m, &o).unwrap();
+        let e = nusselt_core::scene::pair_view_factor(p[i].clone(), p[j].clone(), obs, &m).unwrap();
         println!("pair ({i}, {j}): F {:.15e} in {:.4} s", e.value, t.elapsed().as_secs_f64());
         return;
     }
@@ -45,7 +43,7 @@ fn main() {
     for i in 0..n {
         // one row at a time: the per-row time locates the expensive pairs
         let t = Instant::now();
-        let r = scene.pair_rows(&[i], m, &o, &never).unwrap();
+        let r = scene.pair_rows(&[i], &m, &never).unwrap();
         times.push((t.elapsed().as_secs_f64(), i, r[0].len()));
         for (&j, &g) in r[0].cols.iter().zip(&r[0].g) {
             g_rows[i] += g;

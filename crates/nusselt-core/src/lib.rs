@@ -9,11 +9,11 @@
 //!    positive area) and computes its normal, area and centroid; [`scene::Scene::new`] takes
 //!    the polygons and which of them are receivers (the others only block).
 //! 2. **Method and options.** [`registry::configure`] turns a method name and the user's
-//!    options into a [`scene::AnyMethod`] and [`scene::AllOptions`] (one options type per
-//!    method, named as users see them: [`obstructed::ClippingOptions`],
-//!    [`hemisphere::HemicubeOptions`], ...), checked against the names, defaults and ranges in
-//!    [`registry::METHODS`], the one table of them (the Python package builds its own table
-//!    from it).
+//!    options into a [`scene::AnyMethod`]: one variant per method, each carrying its own
+//!    options type, named as users see them ([`obstructed::ClippingOptions`],
+//!    [`hemisphere::HemicubeOptions`], ...; declared by `registry::method_options!`), checked
+//!    against the names, defaults and ranges in [`registry::METHODS`], the one table of them
+//!    (the Python package builds its own table from it).
 //! 3. **Visibility, once per scene.** [`scene::Scene::unobstructed`] decides whether anything
 //!    can block at all (a convex enclosure cannot). If it can, the scene lazily builds the
 //!    joined occluders and their BVH ([`visibility::Occluders`], [`visibility::Bvh`]) the

@@ -13,10 +13,8 @@ use crate::error::{Error, Result};
 use crate::hemisphere::nusselt_analog::MAX_CELLS;
 use crate::hemisphere::raytrace::MAX_RAYS;
 use crate::hemisphere::{SourcePoints, MAX_GAUSS_ORDER};
-use crate::obstructed::VisMethod;
-use crate::scene::{AllOptions, AnyMethod, RowMethod};
+use crate::scene::AnyMethod;
 use crate::unobstructed::contour::DEFAULT_NODES;
-use crate::unobstructed::method::Method;
 use crate::work::DEFAULT_BUDGET;
 
 /// How a method computes a matrix.
@@ -372,59 +370,10 @@ pub fn find(name: &str) -> Result<&'static MethodSpec> {
     })
 }
 
-/// Every method name and the core method it configures: the one mapping between them.
-const WIRING: &[(&str, AnyMethod)] = &[
-    ("analytic", AnyMethod::Exact(Method::Analytic)),
-    ("contour", AnyMethod::Exact(Method::Contour)),
-    ("auto", AnyMethod::Visible(VisMethod::Auto)),
-    ("quadrature", AnyMethod::Visible(VisMethod::Quadrature)),
-    ("montecarlo", AnyMethod::Visible(VisMethod::MonteCarlo)),
-    ("subdivision", AnyMethod::Visible(VisMethod::Subdivision)),
-    ("adaptive", AnyMethod::Visible(VisMethod::Adaptive)),
-    ("clipping", AnyMethod::Visible(VisMethod::Clipping)),
-    ("hemicube", AnyMethod::Row(RowMethod::Hemicube)),
-    ("single-plane", AnyMethod::Row(RowMethod::SinglePlane)),
-    ("raytrace", AnyMethod::Row(RowMethod::Raytrace)),
-    ("nusselt", AnyMethod::Row(RowMethod::Nusselt)),
-];
-
-/// The user-facing name of a method.
-pub fn name_of(m: AnyMethod) -> &'static str {
-    // `auto` without blockers runs as the unobstructed kernel choice
-    let m = if m == AnyMethod::Exact(Method::Auto) { AnyMethod::Visible(VisMethod::Auto) } else { m };
-    WIRING.iter().find(|w| w.1 == m).map_or("unknown", |w| w.0)
-}
-
 /// The spec of option `option` of method `method` (both listed in [`METHODS`]: a caller bug
 /// otherwise, hence the panic).
 fn spec_of(method: &str, option: &str) -> &'static OptionSpec {
     find(method).ok().and_then(|m| m.option(option)).unwrap_or_else(|| panic!("{method:?} has no option {option}"))
-}
-
-/// Defaults of the option structs, read from [`METHODS`] so that they are written once: the
-/// `Default` of [`crate::hemisphere::HemicubeOptions`] and the others call these.
-pub(crate) fn default_f64(method: &str, option: &str) -> f64 {
-    match spec_of(method, option).default {
-        Default::Float(x) => x,
-        d => panic!("{method:?} option {option}: {d:?} is not a float"),
-    }
-}
-pub(crate) fn default_u64(method: &str, option: &str) -> u64 {
-    match spec_of(method, option).default {
-        Default::Int(x) => x,
-        d => panic!("{method:?} option {option}: {d:?} is not an integer"),
-    }
-}
-pub(crate) fn default_bool(method: &str, option: &str) -> bool {
-    match spec_of(method, option).default {
-        Default::Bool(x) => x,
-        d => panic!("{method:?} option {option}: {d:?} is not a flag"),
-    }
-}
-
-/// The default `source` of `method`, as a row method's and as an area pair method's field.
-pub(crate) fn default_source(method: &str) -> (SourcePoints, Option<usize>) {
-    source_of(&spec_of(method, "source").default.value())
 }
 
 /// Checks one field of an option struct against the range of option `option` of `method` in
@@ -469,9 +418,159 @@ pub fn check(method: &str, spec: &OptionSpec, v: &Value) -> Result<()> {
     }
 }
 
+/// A field of a method's options struct, read from and checked against the option of the
+/// same name in [`METHODS`] (see [`method_options`]).
+pub(crate) trait OptionField: Sized {
+    fn from_value(v: &Value) -> Self;
+    fn check(&self, method: &str, option: &str) -> Result<()>;
+}
+
+impl OptionField for f64 {
+    fn from_value(v: &Value) -> Self {
+        as_f64(v)
+    }
+    fn check(&self, method: &str, option: &str) -> Result<()> {
+        check_field(method, option, Value::Float(*self))
+    }
+}
+
+impl OptionField for u64 {
+    fn from_value(v: &Value) -> Self {
+        as_u64(v)
+    }
+    fn check(&self, method: &str, option: &str) -> Result<()> {
+        check_field(method, option, Value::Int(*self))
+    }
+}
+
+impl OptionField for u32 {
+    fn from_value(v: &Value) -> Self {
+        as_u64(v) as u32
+    }
+    fn check(&self, method: &str, option: &str) -> Result<()> {
+        check_field(method, option, Value::Int((*self).into()))
+    }
+}
+
+impl OptionField for usize {
+    fn from_value(v: &Value) -> Self {
+        as_u64(v) as usize
+    }
+    fn check(&self, method: &str, option: &str) -> Result<()> {
+        check_field(method, option, Value::Int(*self as u64))
+    }
+}
+
+impl OptionField for bool {
+    fn from_value(v: &Value) -> Self {
+        as_bool(v)
+    }
+    fn check(&self, _: &str, _: &str) -> Result<()> {
+        Ok(())
+    }
+}
+
+/// A row method's `source`.
+impl OptionField for SourcePoints {
+    fn from_value(v: &Value) -> Self {
+        source_of(v).0
+    }
+    fn check(&self, method: &str, _: &str) -> Result<()> {
+        SourcePoints::check(self, method)
+    }
+}
+
+/// An area pair method's `source` (None: the method's own 'auto' / 'adaptive' rule).
+impl OptionField for Option<usize> {
+    fn from_value(v: &Value) -> Self {
+        source_of(v).1
+    }
+    fn check(&self, method: &str, option: &str) -> Result<()> {
+        self.map_or(Ok(()), |k| check_field(method, option, Value::Int(k as u64)))
+    }
+}
+
+/// The default of option `option` of `method` in [`METHODS`].
+pub(crate) fn default_of(method: &str, option: &str) -> Value {
+    spec_of(method, option).default.value()
+}
+
+/// Declares the options struct of one method of [`METHODS`]: one field per option, named as
+/// the option (its `Default` and range come from the table), then `fixed` fields that are
+/// not options (with their value), then the method's own conditions beyond the table's
+/// ranges (`check(o) { ... }`, a `Result<()>`). Every struct also gets the table's `budget`.
+/// Generated: the struct, `Default`, `METHOD` (the name), `set` (one option from a checked
+/// value, what [`configure`] calls) and `check`.
+macro_rules! method_options {
+    (
+        $(#[$meta:meta])*
+        pub struct $name:ident for $method:literal {
+            $( $(#[$fmeta:meta])* $field:ident: $ty:ty, )*
+        }
+        $( fixed { $( $(#[$xmeta:meta])* $xfield:ident: $xty:ty = $xinit:expr, )* } )?
+        $( check($o:ident) $extra:block )?
+    ) => {
+        $(#[$meta])*
+        #[derive(Debug, Clone, Copy, PartialEq)]
+        pub struct $name {
+            $( $(#[$fmeta])* pub $field: $ty, )*
+            $( $( $(#[$xmeta])* pub $xfield: $xty, )* )?
+            /// Most work units one pair or row may take ([`crate::work`]; the caller meters it).
+            pub budget: u64,
+        }
+
+        impl Default for $name {
+            fn default() -> Self {
+                use $crate::registry::{default_of, OptionField};
+                $name {
+                    $( $field: OptionField::from_value(&default_of($method, stringify!($field))), )*
+                    $( $( $xfield: $xinit, )* )?
+                    budget: OptionField::from_value(&default_of($method, "budget")),
+                }
+            }
+        }
+
+        impl $name {
+            /// The method's name in [`crate::registry::METHODS`].
+            pub const METHOD: &'static str = $method;
+
+            /// [`Self::METHOD`].
+            pub fn name(&self) -> &'static str {
+                $method
+            }
+
+            /// Sets option `key` from `v` (already checked against the table); false when
+            /// the method has no option `key`.
+            pub(crate) fn set(&mut self, key: &str, v: &$crate::registry::Value) -> bool {
+                use $crate::registry::OptionField;
+                $( if key == stringify!($field) {
+                    self.$field = OptionField::from_value(v);
+                    return true;
+                } )*
+                if key == "budget" {
+                    self.budget = OptionField::from_value(v);
+                    return true;
+                }
+                false
+            }
+
+            /// Checks every option against its range in the table, then the method's own
+            /// conditions; the message names the method and the option.
+            pub fn check(&self) -> $crate::error::Result<()> {
+                use $crate::registry::OptionField;
+                $( OptionField::check(&self.$field, $method, stringify!($field))?; )*
+                OptionField::check(&self.budget, $method, "budget")?;
+                $( let $o = self; ($extra)?; )?
+                Ok(())
+            }
+        }
+    };
+}
+pub(crate) use method_options;
+
 /// The method `name` with the options `given` (the others at their defaults in [`METHODS`]),
 /// each checked against its range.
-pub fn configure(name: &str, given: &[(String, Value)]) -> Result<(AnyMethod, AllOptions)> {
+pub fn configure(name: &str, given: &[(String, Value)]) -> Result<AnyMethod> {
     let spec = find(name)?;
     let mut values: Vec<(&'static OptionSpec, Value)> = spec.options.iter().map(|o| (o, o.default.value())).collect();
     for (k, v) in given {
@@ -485,16 +584,18 @@ pub fn configure(name: &str, given: &[(String, Value)]) -> Result<(AnyMethod, Al
         check(name, slot.0, v)?;
         slot.1 = v.clone();
     }
-    let method =
-        WIRING.iter().find(|w| w.0 == name).map(|w| w.1).ok_or_else(|| {
-            Error::InvalidArgument(format!("method {name:?} is listed but not wired (internal error)"))
-        })?;
-    let mut o = AllOptions::default();
+    let mut method = AnyMethod::from_name(name)
+        .ok_or_else(|| Error::InvalidArgument(format!("method {name:?} is listed but not wired (internal error)")))?;
     for (spec_o, v) in &values {
-        apply(name, spec_o.name, v, &mut o)?;
+        if !method.set(spec_o.name, v) {
+            return Err(Error::InvalidArgument(format!(
+                "method {name:?}: option {} is listed but not wired (internal error)",
+                spec_o.name
+            )));
+        }
     }
-    o.check()?;
-    Ok((method, o))
+    method.check()?;
+    Ok(method)
 }
 
 fn as_f64(v: &Value) -> f64 {
@@ -523,54 +624,6 @@ fn source_of(v: &Value) -> (SourcePoints, Option<usize>) {
         Value::Int(k) => (SourcePoints::Gauss(*k as u32), Some(*k as usize)),
         _ => (SourcePoints::Auto, None),
     }
-}
-
-/// Writes option `key` of method `name` into the core's option structs.
-fn apply(name: &str, key: &str, v: &Value, o: &mut AllOptions) -> Result<()> {
-    match (name, key) {
-        (_, "budget") => o.budget = as_u64(v),
-        ("auto", "tol") => o.exact.tol = as_f64(v),
-        ("auto" | "analytic" | "contour", "obstructed_tol") => o.clipping.tol = as_f64(v),
-        ("contour", "nodes") => o.exact.nodes = as_u64(v) as usize,
-        ("quadrature", "order") => o.quadrature.order = as_u64(v) as usize,
-        ("quadrature", "tol") => o.quadrature.tol = as_f64(v),
-        ("quadrature", "panels") => o.quadrature.panels = as_u64(v) as usize,
-        ("quadrature", "control_variate") => o.quadrature.control_variate = as_bool(v),
-        ("montecarlo", "samples") => o.montecarlo.samples = as_u64(v) as usize,
-        ("montecarlo", "seed") => o.montecarlo.seed = as_u64(v),
-        ("montecarlo", "control_variate") => o.montecarlo.control_variate = as_bool(v),
-        ("subdivision", "divisions") => o.subdivision.divisions = as_u64(v) as usize,
-        ("subdivision", "source") => o.subdivision.source = source_of(v).1,
-        ("adaptive", "tol") => o.adaptive.tol = as_f64(v),
-        ("adaptive", "max_depth") => o.adaptive.max_depth = as_u64(v) as usize,
-        ("adaptive", "source") => o.adaptive.source = source_of(v).1,
-        ("clipping", "tol") => o.clipping.tol = as_f64(v),
-        ("clipping", "max_depth") => o.clipping.max_depth = as_u64(v) as usize,
-        ("clipping", "source") => o.clipping.source = source_of(v).1,
-        ("hemicube", "resolution") => o.hemicube.resolution = as_u64(v) as u32,
-        ("hemicube", "source") => o.hemicube.source = source_of(v).0,
-        ("hemicube", "random_rotation") => o.hemicube.random_rotation = as_bool(v),
-        ("hemicube", "seed") => o.hemicube.seed = as_u64(v),
-        ("single-plane", "half_width") => o.single_plane.half_width = as_f64(v),
-        ("single-plane", "min_cell") => o.single_plane.min_cell = as_f64(v),
-        ("single-plane", "source") => o.single_plane.source = source_of(v).0,
-        ("single-plane", "random_rotation") => o.single_plane.random_rotation = as_bool(v),
-        ("single-plane", "seed") => o.single_plane.seed = as_u64(v),
-        ("raytrace", "rays") => o.raytrace.rays = as_u64(v) as u32,
-        ("raytrace", "seed") => o.raytrace.seed = as_u64(v),
-        ("raytrace", "row_tol") => o.raytrace.row_tol = as_f64(v),
-        ("nusselt", "cells") => o.nusselt.cells = as_u64(v) as u32,
-        ("nusselt", "source") => o.nusselt.source = source_of(v).0,
-        ("nusselt", "jitter") => o.nusselt.jitter = as_bool(v),
-        ("nusselt", "random_rotation") => o.nusselt.random_rotation = as_bool(v),
-        ("nusselt", "seed") => o.nusselt.seed = as_u64(v),
-        _ => {
-            return Err(Error::InvalidArgument(format!(
-                "method {name:?}: option {key} is listed but not wired (internal error)"
-            )))
-        }
-    }
-    Ok(())
 }
 
 #[cfg(test)]
@@ -611,31 +664,40 @@ mod tests {
 
     #[test]
     fn every_listed_method_is_wired_once_and_named_back() {
-        assert_eq!(WIRING.len(), METHODS.len());
+        let mut names = std::collections::HashSet::new();
         for m in METHODS {
-            let (method, _) = configure(m.name, &[]).unwrap();
-            assert_eq!(name_of(method), m.name);
+            assert_eq!(configure(m.name, &[]).unwrap().name(), m.name);
+            assert_eq!(AnyMethod::from_name(m.name).unwrap().name(), m.name);
+            assert!(names.insert(m.name), "{} listed twice", m.name);
         }
-        assert_eq!(name_of(AnyMethod::Exact(Method::Auto)), "auto");
+        assert!(AnyMethod::from_name("nope").is_none());
     }
 
     #[test]
     fn option_structs_default_to_the_table_and_check_its_ranges() {
         use crate::hemisphere::{HemicubeOptions, NusseltOptions, RaytraceOptions, SinglePlaneOptions};
         // what a user gets at the defaults is what a Rust caller gets from Default
-        let at = |m: &str| configure(m, &[]).unwrap().1;
-        assert_eq!(at("hemicube").hemicube, HemicubeOptions::default());
-        assert_eq!(at("single-plane").single_plane, SinglePlaneOptions::default());
-        assert_eq!(at("raytrace").raytrace, RaytraceOptions::default());
-        assert_eq!(at("nusselt").nusselt, NusseltOptions::default());
-        assert_eq!(at("contour").exact, crate::unobstructed::method::Options::default());
+        let at = |m: &str| configure(m, &[]).unwrap();
+        assert_eq!(at("hemicube"), AnyMethod::Hemicube(HemicubeOptions::default()));
+        assert_eq!(at("single-plane"), AnyMethod::SinglePlane(SinglePlaneOptions::default()));
+        assert_eq!(at("raytrace"), AnyMethod::Raytrace(RaytraceOptions::default()));
+        assert_eq!(at("nusselt"), AnyMethod::Nusselt(NusseltOptions::default()));
+        use crate::unobstructed::method::{AnalyticOptions, AutoOptions, ContourOptions, Options};
+        assert_eq!(at("auto"), AnyMethod::Auto(AutoOptions::default()));
+        assert_eq!(at("analytic"), AnyMethod::Analytic(AnalyticOptions::default()));
+        assert_eq!(at("contour"), AnyMethod::Contour(ContourOptions::default()));
+        assert_eq!(at("contour").exact(), Options::default());
         use crate::obstructed::SubdivisionOptions;
         use crate::obstructed::{AdaptiveOptions, ClippingOptions, MonteCarloOptions, QuadratureOptions};
-        assert_eq!(at("quadrature").quadrature, QuadratureOptions::default());
-        assert_eq!(at("montecarlo").montecarlo, MonteCarloOptions::default());
-        assert_eq!(at("subdivision").subdivision, SubdivisionOptions::default());
-        assert_eq!(at("adaptive").adaptive, AdaptiveOptions::default());
-        assert_eq!(at("clipping").clipping, ClippingOptions::default());
+        assert_eq!(at("quadrature"), AnyMethod::Quadrature(QuadratureOptions::default()));
+        assert_eq!(at("montecarlo"), AnyMethod::MonteCarlo(MonteCarloOptions::default()));
+        assert_eq!(at("subdivision"), AnyMethod::Subdivision(SubdivisionOptions::default()));
+        assert_eq!(at("adaptive"), AnyMethod::Adaptive(AdaptiveOptions::default()));
+        assert_eq!(at("clipping"), AnyMethod::Clipping(ClippingOptions::default()));
+        // the budget of every method is the table's
+        for m in METHODS {
+            assert_eq!(at(m.name).budget(), DEFAULT_BUDGET, "{}", m.name);
+        }
         // a struct filled by hand is held to the table's range, and the message says which
         let e =
             SinglePlaneOptions { min_cell: 1e-5, ..std::default::Default::default() }.check().unwrap_err().to_string();
@@ -665,14 +727,16 @@ mod tests {
 
     #[test]
     fn tol_means_what_each_method_documents() {
-        let (_, o) = configure("auto", &[("tol".into(), Value::Float(1e-6))]).unwrap();
-        assert_eq!(o.exact.tol, 1e-6);
-        for m in ["auto", "analytic", "contour"] {
-            let (_, o) = configure(m, &[("obstructed_tol".into(), Value::Float(1e-4))]).unwrap();
-            assert_eq!(o.clipping.tol, 1e-4, "{m}");
+        use crate::obstructed::{ClippingOptions, Estimator};
+        let m = configure("auto", &[("tol".into(), Value::Float(1e-6))]).unwrap();
+        assert_eq!(m.exact().tol, 1e-6);
+        for name in ["auto", "analytic", "contour"] {
+            let m = configure(name, &[("obstructed_tol".into(), Value::Float(1e-4))]).unwrap();
+            let want = ClippingOptions { tol: 1e-4, ..std::default::Default::default() };
+            assert_eq!(m.estimator(), Some(Estimator::Clipping(want)), "{name}");
         }
-        let (_, o) = configure("adaptive", &[("tol".into(), Value::Float(1e-3))]).unwrap();
-        assert_eq!(o.adaptive.tol, 1e-3);
-        assert_eq!(o.exact.tol, 1e-10);
+        let m = configure("adaptive", &[("tol".into(), Value::Float(1e-3))]).unwrap();
+        assert!(matches!(m, AnyMethod::Adaptive(o) if o.tol == 1e-3));
+        assert_eq!(m.exact().tol, 1e-10);
     }
 }

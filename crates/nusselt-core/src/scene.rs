@@ -19,9 +19,9 @@ pub use crate::matrix::PairRow;
 use crate::matrix::{clamp_g, flatten_pair_rows, full_rows, upper_pair_rows, PairBlock};
 use crate::obstructed::{
     self, AdaptiveOptions, ClippingOptions, Context, Estimate, Estimator, MonteCarloOptions, QuadratureOptions,
-    SubdivisionOptions, VisMethod,
+    SubdivisionOptions,
 };
-use crate::unobstructed::method::{self, Method, Options, RuleCache};
+use crate::unobstructed::method::{self, AnalyticOptions, AutoOptions, ContourOptions, Method, Options, RuleCache};
 use crate::unobstructed::rows as unobstructed_rows;
 use crate::visibility::{Bvh, Occluders};
 use crate::work;
@@ -31,87 +31,138 @@ use std::sync::OnceLock;
 
 mod points;
 
-/// Every method; [`crate::registry`] maps the names users give to it.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+/// Every method with its options (the options type of each is named as the method);
+/// [`crate::registry::configure`] builds one from the name and options a user gives.
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub enum AnyMethod {
-    /// Unobstructed pair kernels: `analytic`, `contour` (and `auto` without blockers).
-    Exact(Method),
-    /// Pair methods with visibility (`auto`, `quadrature`, `montecarlo`, `subdivision`,
-    /// `adaptive`, `clipping`).
-    Visible(VisMethod),
+    /// Unobstructed pairs by the cheapest rule that meets `tol`; pairs something may block by
+    /// `clipping` to `obstructed_tol`.
+    Auto(AutoOptions),
+    /// Unobstructed pair kernels (closed form, double contour integral); pairs something may
+    /// block by `clipping` from the kernel's value.
+    Analytic(AnalyticOptions),
+    Contour(ContourOptions),
+    /// Pair methods with visibility.
+    Quadrature(QuadratureOptions),
+    MonteCarlo(MonteCarloOptions),
+    Subdivision(SubdivisionOptions),
+    Adaptive(AdaptiveOptions),
+    Clipping(ClippingOptions),
     /// Whole rows by hemisphere sampling.
-    Row(RowMethod),
+    Hemicube(HemicubeOptions),
+    SinglePlane(SinglePlaneOptions),
+    Raytrace(RaytraceOptions),
+    Nusselt(NusseltOptions),
 }
 
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum RowMethod {
-    Hemicube,
-    SinglePlane,
-    Raytrace,
-    Nusselt,
-}
-
-/// The options of every method; each method reads its own ([`crate::registry::configure`]
-/// fills them from the method's option names).
-#[derive(Debug, Clone)]
-pub struct AllOptions {
-    /// Work units one pair or row may take (see [`crate::work`]).
-    pub budget: u64,
-    pub exact: Options,
-    pub quadrature: QuadratureOptions,
-    pub montecarlo: MonteCarloOptions,
-    pub subdivision: SubdivisionOptions,
-    pub adaptive: AdaptiveOptions,
-    /// Also the obstructed pairs of `auto`, `analytic` and `contour` (`obstructed_tol`).
-    pub clipping: ClippingOptions,
-    pub hemicube: HemicubeOptions,
-    pub single_plane: SinglePlaneOptions,
-    pub raytrace: RaytraceOptions,
-    pub nusselt: NusseltOptions,
-}
-
-impl Default for AllOptions {
-    fn default() -> Self {
-        AllOptions {
-            budget: crate::work::DEFAULT_BUDGET,
-            exact: Default::default(),
-            quadrature: Default::default(),
-            montecarlo: Default::default(),
-            subdivision: Default::default(),
-            adaptive: Default::default(),
-            clipping: Default::default(),
-            hemicube: Default::default(),
-            single_plane: Default::default(),
-            raytrace: Default::default(),
-            nusselt: Default::default(),
+/// `$e` with `$o` bound to the options of any variant of `$m`.
+macro_rules! with_options {
+    ($m:expr, $o:ident => $e:expr) => {
+        match $m {
+            AnyMethod::Auto($o) => $e,
+            AnyMethod::Analytic($o) => $e,
+            AnyMethod::Contour($o) => $e,
+            AnyMethod::Quadrature($o) => $e,
+            AnyMethod::MonteCarlo($o) => $e,
+            AnyMethod::Subdivision($o) => $e,
+            AnyMethod::Adaptive($o) => $e,
+            AnyMethod::Clipping($o) => $e,
+            AnyMethod::Hemicube($o) => $e,
+            AnyMethod::SinglePlane($o) => $e,
+            AnyMethod::Raytrace($o) => $e,
+            AnyMethod::Nusselt($o) => $e,
         }
-    }
+    };
 }
 
-impl AllOptions {
+impl AnyMethod {
+    /// The method named `name` at its defaults (None: no such method).
+    pub fn from_name(name: &str) -> Option<AnyMethod> {
+        use std::default::Default as D;
+        [
+            AnyMethod::Auto(D::default()),
+            AnyMethod::Analytic(D::default()),
+            AnyMethod::Contour(D::default()),
+            AnyMethod::Quadrature(D::default()),
+            AnyMethod::MonteCarlo(D::default()),
+            AnyMethod::Subdivision(D::default()),
+            AnyMethod::Adaptive(D::default()),
+            AnyMethod::Clipping(D::default()),
+            AnyMethod::Hemicube(D::default()),
+            AnyMethod::SinglePlane(D::default()),
+            AnyMethod::Raytrace(D::default()),
+            AnyMethod::Nusselt(D::default()),
+        ]
+        .into_iter()
+        .find(|m| m.name() == name)
+    }
+
+    /// The user-facing name.
+    pub fn name(&self) -> &'static str {
+        with_options!(self, o => o.name())
+    }
+
     pub fn check(&self) -> Result<()> {
-        self.exact.check()?;
-        self.quadrature.check()?;
-        self.montecarlo.check()?;
-        self.subdivision.check()?;
-        self.adaptive.check()?;
-        self.clipping.check()?;
-        self.hemicube.check()?;
-        self.single_plane.check()?;
-        self.raytrace.check()?;
-        self.nusselt.check()
+        with_options!(self, o => o.check())
     }
 
-    /// The estimator of pair method `m` with its options (`auto`: `clipping` on the pairs
-    /// something may block).
-    pub fn estimator(&self, m: VisMethod) -> Estimator {
-        match m {
-            VisMethod::Quadrature => Estimator::Quadrature(self.quadrature),
-            VisMethod::MonteCarlo => Estimator::MonteCarlo(self.montecarlo),
-            VisMethod::Subdivision => Estimator::Subdivision(self.subdivision),
-            VisMethod::Adaptive => Estimator::Adaptive(self.adaptive),
-            VisMethod::Auto | VisMethod::Clipping => Estimator::Clipping(self.clipping),
+    /// Work units one pair or row may take (see [`crate::work`]).
+    pub fn budget(&self) -> u64 {
+        with_options!(self, o => o.budget)
+    }
+
+    /// Sets option `key` from `v` (checked against the registry); false when the method has
+    /// no such option.
+    pub(crate) fn set(&mut self, key: &str, v: &crate::registry::Value) -> bool {
+        with_options!(self, o => o.set(key, v))
+    }
+
+    /// The unobstructed kernel of `analytic` and `contour` (None for the others).
+    pub(crate) fn kernel(&self) -> Option<Method> {
+        match self {
+            AnyMethod::Analytic(_) => Some(Method::Analytic),
+            AnyMethod::Contour(_) => Some(Method::Contour),
+            _ => None,
         }
+    }
+
+    /// What the unobstructed kernels read: `auto`'s tol, `contour`'s nodes (defaults for
+    /// the others).
+    pub(crate) fn exact(&self) -> Options {
+        match self {
+            AnyMethod::Auto(o) => Options { tol: o.tol, ..Options::default() },
+            AnyMethod::Contour(o) => Options { nodes: o.nodes, ..Options::default() },
+            _ => Options::default(),
+        }
+    }
+
+    /// The estimator of the pairs something may block: the method's own, `clipping` to
+    /// `obstructed_tol` for `auto`, `analytic` and `contour`; None for a row method.
+    pub fn estimator(&self) -> Option<Estimator> {
+        let clip = |tol| Estimator::Clipping(ClippingOptions { tol, ..ClippingOptions::default() });
+        Some(match *self {
+            AnyMethod::Auto(o) => clip(o.obstructed_tol),
+            AnyMethod::Analytic(o) => clip(o.obstructed_tol),
+            AnyMethod::Contour(o) => clip(o.obstructed_tol),
+            AnyMethod::Quadrature(o) => Estimator::Quadrature(o),
+            AnyMethod::MonteCarlo(o) => Estimator::MonteCarlo(o),
+            AnyMethod::Subdivision(o) => Estimator::Subdivision(o),
+            AnyMethod::Adaptive(o) => Estimator::Adaptive(o),
+            AnyMethod::Clipping(o) => Estimator::Clipping(o),
+            AnyMethod::Hemicube(_) | AnyMethod::SinglePlane(_) | AnyMethod::Raytrace(_) | AnyMethod::Nusselt(_) => {
+                return None
+            }
+        })
+    }
+
+    /// Whether this is a row method (whole rows by hemisphere sampling).
+    pub fn is_row(&self) -> bool {
+        self.estimator().is_none()
+    }
+
+    /// The pair estimator, or the error a row method gets where a pair method is needed.
+    fn pair_estimator(&self) -> Result<Estimator> {
+        self.estimator().ok_or_else(|| Error::InvalidArgument("a row method has no pair rows".into()))
     }
 }
 
@@ -286,34 +337,30 @@ impl Scene {
         Ok(Context { polygons: &self.polygons, occluders, vis, rules: Some(&self.rules), exact_tol })
     }
 
-    /// [`Scene::context`] for the pair estimators of a call with options `o` (the
-    /// unobstructed G they compute is `auto`'s at `o.exact.tol`).
-    fn pair_context(&self, o: &AllOptions) -> Result<Context<'_>> {
-        Ok(Context { exact_tol: o.exact.tol, ..self.context()? })
+    /// [`Scene::context`] for the pair estimators of method `m` (the unobstructed G they
+    /// compute is `auto`'s at `m`'s kernel tol).
+    fn pair_context(&self, m: &AnyMethod) -> Result<Context<'_>> {
+        Ok(Context { exact_tol: m.exact().tol, ..self.context()? })
     }
 
     /// G_ij = A_i F_ij for every row i in `rows` and receiver j > i (pair methods).
-    pub fn pair_rows(&self, rows: &[usize], m: AnyMethod, o: &AllOptions, cancel: &AtomicBool) -> Result<Vec<PairRow>> {
-        o.check()?;
+    pub fn pair_rows(&self, rows: &[usize], m: &AnyMethod, cancel: &AtomicBool) -> Result<Vec<PairRow>> {
+        m.check()?;
         let n = self.polygons.len();
         let p = &self.polygons;
         let skip = |i: usize, j: usize| method::facing(&p[i], &p[j]) == method::Facing::None;
         let free = self.unobstructed();
-        let est: Box<dyn Fn(usize, usize) -> Result<Estimate> + Sync> = match m {
-            AnyMethod::Row(_) => return Err(Error::InvalidArgument("a row method has no pair rows".into())),
-            AnyMethod::Exact(mm) if free => Box::new(move |i, j| Ok(Estimate::exact(self.exact_g(i, j, mm, o)?))),
-            AnyMethod::Exact(_) => return self.visible_rows(rows, m, o, cancel),
-            AnyMethod::Visible(VisMethod::Auto) if free => {
-                return Ok(
-                    unobstructed_rows::pair_block(p, &self.receiver, &self.rules, rows, &o.exact, cancel)?.rows()
-                );
+        let (est, exact) = (m.pair_estimator()?, m.exact());
+        let est: Box<dyn Fn(usize, usize) -> Result<Estimate> + Sync> = match m.kernel() {
+            Some(mm) if free => Box::new(move |i, j| Ok(Estimate::exact(self.exact_g(i, j, mm, &exact)?))),
+            Some(_) => return self.visible_rows(rows, m, cancel),
+            None if free && matches!(m, AnyMethod::Auto(_)) => {
+                return Ok(unobstructed_rows::pair_block(p, &self.receiver, &self.rules, rows, &exact, cancel)?.rows());
             }
-            AnyMethod::Visible(vm) if obstructed::exact_when_unobstructed(&o.estimator(vm)) => {
-                return self.visible_rows(rows, m, o, cancel);
-            }
-            AnyMethod::Visible(vm) => {
-                let ctx = self.pair_context(o)?;
-                let (budget, est) = (o.budget, o.estimator(vm));
+            None if obstructed::exact_when_unobstructed(&est) => return self.visible_rows(rows, m, cancel),
+            None => {
+                let ctx = self.pair_context(m)?;
+                let budget = m.budget();
                 Box::new(move |i, j| {
                     work::metered(budget, || pair_what(m, i, j), || obstructed::pair(&ctx, i, j, &est))
                 })
@@ -335,8 +382,8 @@ impl Scene {
     }
 
     /// The unobstructed G_ij of an exact kernel (`analytic`, `contour`).
-    fn exact_g(&self, i: usize, j: usize, mm: Method, o: &AllOptions) -> Result<f64> {
-        method::area_factor(&self.polygons[i], &self.polygons[j], mm, &o.exact, Some((&self.rules, i, j)))
+    fn exact_g(&self, i: usize, j: usize, mm: Method, exact: &Options) -> Result<f64> {
+        method::area_factor(&self.polygons[i], &self.polygons[j], mm, exact, Some((&self.rules, i, j)))
     }
 
     /// Pair rows of a method that computes unobstructed pairs exactly, on a scene where
@@ -347,17 +394,16 @@ impl Scene {
     /// against that query's answer, and only pairs with candidates left pay for visibility
     /// (`analytic` and `contour`: the exact visible region, `clipping` to `vis.tol`). The
     /// same values as asking [`obstructed::pair_with`] pair by pair, at a fraction of the cost.
-    fn visible_rows(&self, rows: &[usize], m: AnyMethod, o: &AllOptions, cancel: &AtomicBool) -> Result<Vec<PairRow>> {
+    fn visible_rows(&self, rows: &[usize], m: &AnyMethod, cancel: &AtomicBool) -> Result<Vec<PairRow>> {
         let p = &self.polygons;
-        let ctx = self.pair_context(o)?;
-        let (free, vm) = match m {
-            AnyMethod::Visible(vm) => {
-                (unobstructed_rows::pair_block(p, &self.receiver, &self.rules, rows, &o.exact, cancel)?, vm)
-            }
-            AnyMethod::Exact(mm) => {
+        let ctx = self.pair_context(m)?;
+        let (estimator, exact) = (m.pair_estimator()?, m.exact());
+        let free = match m.kernel() {
+            None => unobstructed_rows::pair_block(p, &self.receiver, &self.rules, rows, &exact, cancel)?,
+            Some(mm) => {
                 let skip = |i: usize, j: usize| method::facing(&p[i], &p[j]) == method::Facing::None;
                 let g = upper_pair_rows(p.len(), rows, &self.receiver, cancel, skip, |i, j| {
-                    let g = self.exact_g(i, j, mm, o)?;
+                    let g = self.exact_g(i, j, mm, &exact)?;
                     Ok((g != 0.0).then_some(g))
                 })?;
                 let g: Vec<PairRow> = g
@@ -368,11 +414,9 @@ impl Scene {
                         std: None,
                     })
                     .collect();
-                (flatten_pair_rows(&g)?, VisMethod::Clipping)
+                flatten_pair_rows(&g)?
             }
-            AnyMethod::Row(_) => return Err(Error::InvalidArgument("a row method has no pair rows".into())),
         };
-        let estimator = o.estimator(vm);
         let ranks = self.ranks.get_or_init(|| morton_ranks(p));
         rows.par_iter()
             .enumerate()
@@ -400,7 +444,7 @@ impl Scene {
                             let (k, j) = (k as usize, cols[k as usize] as usize);
                             let known = obstructed::Known { free: Some(g0[k]), among: Some(among) };
                             let est = work::metered(
-                                o.budget,
+                                m.budget(),
                                 || pair_what(m, i, j),
                                 || obstructed::pair_with(&ctx, i, j, &estimator, known),
                             )?;
@@ -421,48 +465,47 @@ impl Scene {
 
     /// [`Scene::pair_rows`] as one block of CSR parts (what the Python layer stores); an
     /// unobstructed scene with `auto` writes its rows straight into the block.
-    pub fn pair_block(&self, rows: &[usize], m: AnyMethod, o: &AllOptions, cancel: &AtomicBool) -> Result<PairBlock> {
-        let mut block = if m == AnyMethod::Visible(VisMethod::Auto) && self.unobstructed() {
-            o.check()?;
-            unobstructed_rows::pair_block(&self.polygons, &self.receiver, &self.rules, rows, &o.exact, cancel)?
+    pub fn pair_block(&self, rows: &[usize], m: &AnyMethod, cancel: &AtomicBool) -> Result<PairBlock> {
+        let mut block = if matches!(m, AnyMethod::Auto(_)) && self.unobstructed() {
+            m.check()?;
+            unobstructed_rows::pair_block(&self.polygons, &self.receiver, &self.rules, rows, &m.exact(), cancel)?
         } else {
-            flatten_pair_rows(&self.pair_rows(rows, m, o, cancel)?)?
+            flatten_pair_rows(&self.pair_rows(rows, m, cancel)?)?
         };
         let areas: Vec<f64> = self.polygons.iter().map(|p| p.area()).collect();
         block.clamp_to_areas(rows, &areas);
         Ok(block)
     }
 
-    /// Whole rows F_i. by hemisphere sampling.
-    pub fn full_rows(
-        &self,
-        rows: &[usize],
-        m: RowMethod,
-        o: &AllOptions,
-        cancel: &AtomicBool,
-    ) -> Result<Vec<RowResult>> {
+    /// Whole rows F_i. by hemisphere sampling (row methods).
+    pub fn full_rows(&self, rows: &[usize], m: &AnyMethod, cancel: &AtomicBool) -> Result<Vec<RowResult>> {
+        if !m.is_row() {
+            return Err(Error::InvalidArgument(format!("method {:?} is a pair method: it has no full rows", m.name())));
+        }
         let vis = match m {
-            RowMethod::Raytrace | RowMethod::Nusselt => Some(self.bvh()?),
+            AnyMethod::Raytrace(_) | AnyMethod::Nusselt(_) => Some(self.bvh()?),
             _ => None,
         };
         full_rows(self.polygons.len(), rows, &self.receiver, cancel, |i| {
             if !self.receiver[i] {
                 return Ok(RowResult::default());
             }
-            let what = || format!("method {:?}: row {i}", crate::registry::name_of(AnyMethod::Row(m)));
-            work::metered(o.budget, what, || match m {
-                RowMethod::Hemicube => hemicube_row(&self.polygons, &self.receiver, i, &o.hemicube),
-                RowMethod::SinglePlane => single_plane_row(&self.polygons, &self.receiver, i, &o.single_plane),
-                RowMethod::Raytrace => raytrace_row(&self.polygons, vis.unwrap(), &self.receiver, i, &o.raytrace),
-                RowMethod::Nusselt => nusselt_row(&self.polygons, vis.unwrap(), &self.receiver, i, &o.nusselt),
+            let what = || format!("method {:?}: row {i}", m.name());
+            let (p, r) = (&self.polygons, &self.receiver);
+            work::metered(m.budget(), what, || match m {
+                AnyMethod::Hemicube(o) => hemicube_row(p, r, i, o),
+                AnyMethod::SinglePlane(o) => single_plane_row(p, r, i, o),
+                AnyMethod::Raytrace(o) => raytrace_row(p, vis.unwrap(), r, i, o),
+                AnyMethod::Nusselt(o) => nusselt_row(p, vis.unwrap(), r, i, o),
+                _ => unreachable!("checked above: a row method"),
             })
         })
     }
 }
 
 /// What a budget error names: the method and the pair.
-fn pair_what(m: AnyMethod, i: usize, j: usize) -> String {
-    format!("method {:?}: pair ({i}, {j})", crate::registry::name_of(m))
+fn pair_what(m: &AnyMethod, i: usize, j: usize) -> String {
+    format!("method {:?}: pair ({i}, {j})", m.name())
 }
 
 /// A scene of `polys` followed by `obstacles`; the first `receivers` polygons get rows and
@@ -476,15 +519,9 @@ fn scene_of(mut polys: Vec<Polygon>, obstacles: Vec<Polygon>, receivers: Option<
 
 /// F from `source` to `b` (with `obstacles`) by a row method: the source's row on a scene
 /// where only the two receive.
-fn row_entry_of(
-    source: Polygon,
-    b: Polygon,
-    obstacles: Vec<Polygon>,
-    rm: RowMethod,
-    o: &AllOptions,
-) -> Result<Estimate> {
+fn row_entry_of(source: Polygon, b: Polygon, obstacles: Vec<Polygon>, m: &AnyMethod) -> Result<Estimate> {
     let scene = scene_of(vec![source, b], obstacles, Some(2))?;
-    let row = scene.full_rows(&[0], rm, o, &AtomicBool::new(false))?.pop().unwrap_or_default();
+    let row = scene.full_rows(&[0], m, &AtomicBool::new(false))?.pop().unwrap_or_default();
     Ok(row_entry(&row, 1))
 }
 
@@ -492,33 +529,27 @@ fn row_entry_of(
 /// `contour` keep their kernel where nothing may block; where something may, the pair is
 /// the exact visible region integrated over the source (`clipping` to `vis.tol`) from that
 /// kernel's unobstructed G.
-pub fn pair_view_factor(
-    a: Polygon,
-    b: Polygon,
-    obstacles: Vec<Polygon>,
-    m: AnyMethod,
-    o: &AllOptions,
-) -> Result<Estimate> {
-    o.check()?;
+pub fn pair_view_factor(a: Polygon, b: Polygon, obstacles: Vec<Polygon>, m: &AnyMethod) -> Result<Estimate> {
+    m.check()?;
     let area = a.area();
-    let (vm, free) = match m {
-        AnyMethod::Row(rm) => {
-            let e = row_entry_of(a, b, obstacles, rm, o)?;
-            return Ok(Estimate { value: e.value.clamp(0.0, 1.0), ..e });
-        }
-        AnyMethod::Exact(mm) => {
-            let g = method::area_factor(&a, &b, mm, &o.exact, None)?;
+    let Some(est) = m.estimator() else {
+        let e = row_entry_of(a, b, obstacles, m)?;
+        return Ok(Estimate { value: e.value.clamp(0.0, 1.0), ..e });
+    };
+    let free = match m.kernel() {
+        Some(mm) => {
+            let g = method::area_factor(&a, &b, mm, &m.exact(), None)?;
             if obstacles.is_empty() {
                 return Ok(Estimate::exact(clamp_g(g, area, b.area()) / area));
             }
-            (VisMethod::Clipping, Some(g))
+            Some(g)
         }
-        AnyMethod::Visible(vm) => (vm, None),
+        None => None,
     };
     let scene = scene_of(vec![a, b], obstacles, None)?;
-    let ctx = scene.pair_context(o)?;
-    let (known, est) = (obstructed::Known { free, among: None }, o.estimator(vm));
-    let e = work::metered(o.budget, || pair_what(m, 0, 1), || obstructed::pair_with(&ctx, 0, 1, &est, known))?;
+    let ctx = scene.pair_context(m)?;
+    let known = obstructed::Known { free, among: None };
+    let e = work::metered(m.budget(), || pair_what(m, 0, 1), || obstructed::pair_with(&ctx, 0, 1, &est, known))?;
     let area_b = scene.polygons[1].area();
     Ok(Estimate { value: clamp_g(e.value, area, area_b) / area, std_err: e.std_err / area })
 }
@@ -526,28 +557,20 @@ pub fn pair_view_factor(
 /// F from a differential area (p, unit n) to polygon b, with optional obstacles; in [0, 1]
 /// (rounding of cancelling sums can leave a method's value just outside). `analytic` and
 /// `contour` with obstacles: Lambert's form on the exact visible region (as `clipping`).
-pub fn point_view_factor(
-    p: Vec3,
-    n: Vec3,
-    b: Polygon,
-    obstacles: Vec<Polygon>,
-    m: AnyMethod,
-    o: &AllOptions,
-) -> Result<Estimate> {
-    o.check()?;
+pub fn point_view_factor(p: Vec3, n: Vec3, b: Polygon, obstacles: Vec<Polygon>, m: &AnyMethod) -> Result<Estimate> {
+    m.check()?;
     if !p.is_finite() || !n.is_finite() || !((n.length() - 1.0).abs() < 1e-6) {
         return Err(Error::InvalidArgument("point and unit normal must be finite".into()));
     }
-    let e = match m {
-        AnyMethod::Exact(mm) if obstacles.is_empty() => Estimate::exact(method::point_factor(p, n, &b, mm, &o.exact)?),
-        AnyMethod::Exact(_) | AnyMethod::Visible(_) => {
-            let vm = if let AnyMethod::Visible(vm) = m { vm } else { VisMethod::Clipping };
+    let e = match (m.kernel(), m.estimator()) {
+        (Some(mm), _) if obstacles.is_empty() => Estimate::exact(method::point_factor(p, n, &b, mm, &m.exact())?),
+        (_, Some(est)) => {
             let scene = scene_of(vec![b], obstacles, None)?;
-            let ctx = scene.pair_context(o)?;
-            let what = || format!("method {:?}: the point", crate::registry::name_of(m));
-            work::metered(o.budget, what, || obstructed::point(&ctx, p, n, 0, &o.estimator(vm)))?
+            let ctx = scene.pair_context(m)?;
+            let what = || format!("method {:?}: the point", m.name());
+            work::metered(m.budget(), what, || obstructed::point(&ctx, p, n, 0, &est))?
         }
-        AnyMethod::Row(rm) => {
+        (_, None) => {
             // The point becomes a tiny source patch sampled at its centroid (= p).
             let size = b.radius().max(p.distance(b.centroid()));
             let (t, s) = crate::geometry::tangent_frame(n);
@@ -558,11 +581,14 @@ pub fn point_view_factor(
                 p + e * (-t - 1.7320508075688772 * s),
             ])
             .map_err(|err| Error::InvalidArgument(format!("point source: {err}")))?;
-            let mut o = o.clone();
-            o.hemicube.source = SourcePoints::Centre;
-            o.single_plane.source = SourcePoints::Centre;
-            o.nusselt.source = SourcePoints::Centre;
-            row_entry_of(tri, b, obstacles, rm, &o)?
+            let mut m = *m;
+            match &mut m {
+                AnyMethod::Hemicube(o) => o.source = SourcePoints::Centre,
+                AnyMethod::SinglePlane(o) => o.source = SourcePoints::Centre,
+                AnyMethod::Nusselt(o) => o.source = SourcePoints::Centre,
+                _ => {}
+            }
+            row_entry_of(tri, b, obstacles, &m)?
         }
     };
     Ok(Estimate { value: e.value.clamp(0.0, 1.0), ..e })
@@ -594,32 +620,24 @@ mod tests {
         let scene = Scene::new(polys, vec![true; n]).unwrap();
         assert!(!scene.unobstructed());
         let rows: Vec<usize> = (0..n).collect();
-        let mut o = AllOptions::default();
-        o.clipping.tol = 1e-4;
-        o.quadrature.tol = 1e-4;
-        o.subdivision.divisions = 6;
-        o.subdivision.source = Some(2);
-        o.quadrature.order = 4;
-        o.montecarlo.samples = 256;
-        let ctx = scene.pair_context(&o).unwrap();
-        let mut clip1 = o.clone();
-        clip1.clipping.source = Some(1);
-        for (m, o) in [
-            (VisMethod::Auto, &o),
-            (VisMethod::Clipping, &clip1),
-            (VisMethod::Subdivision, &o),
-            (VisMethod::Quadrature, &o),
-            (VisMethod::MonteCarlo, &o),
+        let auto = AnyMethod::Auto(AutoOptions { obstructed_tol: 1e-4, ..Default::default() });
+        let ctx = scene.pair_context(&auto).unwrap();
+        for m in [
+            auto,
+            AnyMethod::Clipping(ClippingOptions { tol: 1e-4, source: Some(1), ..Default::default() }),
+            AnyMethod::Subdivision(SubdivisionOptions { divisions: 6, source: Some(2), ..Default::default() }),
+            AnyMethod::Quadrature(QuadratureOptions { tol: 1e-4, order: 4, ..Default::default() }),
+            AnyMethod::MonteCarlo(MonteCarloOptions { samples: 256, ..Default::default() }),
         ] {
-            let est = o.estimator(m);
-            let out = scene.pair_rows(&rows, AnyMethod::Visible(m), o, &AtomicBool::new(false)).unwrap();
+            let est = m.estimator().unwrap();
+            let out = scene.pair_rows(&rows, &m, &AtomicBool::new(false)).unwrap();
             let (mut pairs, mut hidden) = (0, 0);
             for (i, row) in rows.iter().zip(&out) {
                 let mut k = 0;
                 for j in i + 1..n {
                     let want = obstructed::pair(&ctx, *i, j, &est).unwrap();
                     let free =
-                        method::area_factor(&scene.polygons[*i], &scene.polygons[j], Method::Auto, &o.exact, None)
+                        method::area_factor(&scene.polygons[*i], &scene.polygons[j], Method::Auto, &m.exact(), None)
                             .unwrap();
                     let got = if row.cols.get(k) == Some(&(j as u32)) {
                         k += 1;
@@ -649,16 +667,19 @@ mod tests {
         let scene = Scene::new(polys, vec![true; n]).unwrap();
         let rows: Vec<usize> = (0..n).collect();
         let ctx = Context { exact_tol: 1e-12, ..scene.context().unwrap() };
-        let o = AllOptions { clipping: ClippingOptions { tol: 1e-6, ..Default::default() }, ..Default::default() };
         let tight = Estimator::Clipping(ClippingOptions { tol: 1e-9, ..Default::default() });
-        for mm in [Method::Analytic, Method::Contour] {
-            let out = scene.pair_rows(&rows, AnyMethod::Exact(mm), &o, &AtomicBool::new(false)).unwrap();
+        for m in [
+            AnyMethod::Analytic(AnalyticOptions { obstructed_tol: 1e-6, ..Default::default() }),
+            AnyMethod::Contour(ContourOptions { obstructed_tol: 1e-6, ..Default::default() }),
+        ] {
+            let mm = m.kernel().unwrap();
+            let out = scene.pair_rows(&rows, &m, &AtomicBool::new(false)).unwrap();
             let (mut free_pairs, mut blocked) = (0, 0);
             for (&i, row) in rows.iter().zip(&out) {
                 for (j, g, std) in row.iter() {
                     let j = j as usize;
                     assert_eq!(std, 0.0);
-                    let free = scene.exact_g(i, j, mm, &o).unwrap();
+                    let free = scene.exact_g(i, j, mm, &m.exact()).unwrap();
                     let mut cand = Vec::new();
                     let owner = &ctx.occluders.owner;
                     ctx.vis.candidates_between(

@@ -2,7 +2,7 @@
 //! (`methods()`), and a Python option dict turned into the core's method and option structs
 //! by the registry (names, types, ranges and defaults all come from it).
 use nusselt_core::registry::{self, Default, OptionType, Value};
-use nusselt_core::scene::{AllOptions, AnyMethod};
+use nusselt_core::scene::AnyMethod;
 use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyList, PyString};
@@ -98,9 +98,9 @@ fn value(method: &str, key: &str, v: &Bound<'_, PyAny>) -> PyResult<Value> {
     })
 }
 
-/// The method and options for `method` with the option dict `d` (missing options take the
+/// The method `method` with its options from the dict `d` (missing options take the
 /// registry's defaults).
-pub fn options(method: &str, d: &Bound<'_, PyDict>) -> PyResult<(AnyMethod, AllOptions)> {
+pub fn options(method: &str, d: &Bound<'_, PyDict>) -> PyResult<AnyMethod> {
     let mut given = Vec::with_capacity(d.len());
     for (k, v) in d.iter() {
         let key: String = k.extract()?;

@@ -2,7 +2,7 @@
 use crate::convert::{polygons, vec3};
 use crate::options::options;
 use numpy::{PyReadonlyArray1, PyReadonlyArray2};
-use nusselt_core::scene::{self, AllOptions, AnyMethod};
+use nusselt_core::scene::{self, AnyMethod};
 use nusselt_core::Polygon;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -15,11 +15,10 @@ fn prepare(
     method: &str,
     opts: &Bound<'_, PyDict>,
     tol: f64,
-) -> PyResult<(Vec<Polygon>, AnyMethod, AllOptions)> {
+) -> PyResult<(Vec<Polygon>, AnyMethod)> {
     let all: Vec<&PyReadonlyArray2<'_, f64>> = first.iter().copied().chain(obstacles).collect();
     let polys = polygons(&all, tol)?;
-    let (m, o) = options(method, opts)?;
-    Ok((polys, m, o))
+    Ok((polys, options(method, opts)?))
 }
 
 /// (F_ab, standard error) for two polygons, with optional obstacles. Polygon indices in
@@ -34,12 +33,12 @@ pub fn view_factor(
     opts: &Bound<'_, PyDict>,
     planarity_tol: f64,
 ) -> PyResult<(f64, f64)> {
-    let (mut polys, m, o) = prepare(&[&a, &b], &obstacles, method, opts, planarity_tol)?;
+    let (mut polys, m) = prepare(&[&a, &b], &obstacles, method, opts, planarity_tol)?;
     let obs = polys.split_off(2);
     let pb = polys.pop().expect("b");
     let pa = polys.pop().expect("a");
     let pool = crate::threads::pool();
-    let e = crate::interrupt::run(py, || pool.install(|| scene::pair_view_factor(pa, pb, obs, m, &o)))?;
+    let e = crate::interrupt::run(py, || pool.install(|| scene::pair_view_factor(pa, pb, obs, &m)))?;
     Ok((e.value, e.std_err))
 }
 
@@ -56,13 +55,13 @@ pub fn point_view_factor(
     opts: &Bound<'_, PyDict>,
     planarity_tol: f64,
 ) -> PyResult<(f64, f64)> {
-    let (mut polys, m, o) = prepare(&[&b], &obstacles, method, opts, planarity_tol)?;
+    let (mut polys, m) = prepare(&[&b], &obstacles, method, opts, planarity_tol)?;
     let obs = polys.split_off(1);
     let pb = polys.pop().expect("b");
     let (p, n) = (p.as_slice()?.to_vec(), n.as_slice()?.to_vec());
     let e = crate::interrupt::run(py, || {
         let (p, n) = (vec3(&p, "point")?, vec3(&n, "normal")?);
-        scene::point_view_factor(p, n, pb, obs, m, &o)
+        scene::point_view_factor(p, n, pb, obs, &m)
     })?;
     Ok((e.value, e.std_err))
 }

@@ -5,7 +5,7 @@ use crate::threads::pool;
 use numpy::{IntoPyArray, PyArray1, PyArray2, PyReadonlyArray1, PyReadonlyArray2};
 use nusselt_core::geometry::Polygon;
 use nusselt_core::matrix::PairBlock;
-use nusselt_core::scene::{AnyMethod, Scene};
+use nusselt_core::scene::Scene;
 use nusselt_core::work::CANCEL;
 use nusselt_core::Error;
 use pyo3::prelude::*;
@@ -120,8 +120,8 @@ impl SceneCore {
         opts: &Bound<'_, PyDict>,
     ) -> PyResult<Csr<'py>> {
         let rows = to_rows(&rows)?;
-        let (m, o) = options(method, opts)?;
-        let b = self.run(py, |scene| scene.pair_block(&rows, m, &o, &CANCEL))?;
+        let m = options(method, opts)?;
+        let b = self.run(py, |scene| scene.pair_block(&rows, &m, &CANCEL))?;
         Ok(csr(py, b))
     }
 
@@ -141,11 +141,11 @@ impl SceneCore {
         Bound<'py, PyArray1<f64>>,
     )> {
         let rows = to_rows(&rows)?;
-        let (m, o) = options(method, opts)?;
-        let AnyMethod::Row(m) = m else {
+        let m = options(method, opts)?;
+        if !m.is_row() {
             return Err(pyo3::exceptions::PyValueError::new_err(format!("{method:?} is not a row method")));
-        };
-        let out = self.run(py, |scene| scene.full_rows(&rows, m, &o, &CANCEL))?;
+        }
+        let out = self.run(py, |scene| scene.full_rows(&rows, &m, &CANCEL))?;
         let (mut indptr, mut idx, mut val, mut std, mut lost) =
             (vec![0i64], Vec::new(), Vec::new(), Vec::new(), Vec::new());
         for r in &out {
@@ -178,8 +178,8 @@ impl SceneCore {
         obstructed: bool,
     ) -> PyResult<Csr<'py>> {
         let (p, n) = (vec3_rows(&points, "points")?, vec3_rows(&normals, "normals")?);
-        let (m, o) = options(method, opts)?;
-        let b = self.run(py, |scene| scene.point_rows(&p, &n, m, obstructed, &o, &CANCEL))?;
+        let m = options(method, opts)?;
+        let b = self.run(py, |scene| scene.point_rows(&p, &n, &m, obstructed, &CANCEL))?;
         Ok(csr(py, b))
     }
 

@@ -24,10 +24,10 @@
 //! points), and partial visibility. Random rotation about the normal per sample point turns
 //! the structured aliasing into noise that averages out over points and patches.
 
-use super::{row_over_points, Accum, Points, RowResult, SourcePoints};
+use super::{check_near, row_over_points, Accum, Points, RowResult, SourcePoints};
 use crate::error::{Error, Result};
 use crate::geometry::{Polygon, Vec3};
-use crate::registry::{check_field, Value};
+use crate::registry::method_options;
 use std::cell::RefCell;
 use std::f64::consts::PI;
 
@@ -36,47 +36,30 @@ const EMPTY: u32 = u32::MAX;
 /// Item-buffer value of a cell that sees a polygon's back side (blocked, received by none).
 const BACK: u32 = u32::MAX - 1;
 
-/// Options of [`hemicube_row`].
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct HemicubeOptions {
-    /// Cells per side of the top face (even, 4..=4096); side faces are R x R/2.
-    /// Default 128 (about 49 000 cells per hemicube).
-    pub resolution: u32,
-    /// Sample points on the source. Default [`SourcePoints::Auto`].
-    pub source: SourcePoints,
-    /// Rotate the cube about the normal by a random angle per sample point. Default true.
-    pub random_rotation: bool,
-    /// Seed of the rotations and source points (results are reproducible per seed). Default 0.
-    pub seed: u64,
-    /// Near-plane distance relative to the source patch radius, in (0, 0.1]. Geometry closer
-    /// to the eye than this (a thin band of adjacent patches) is lost. Default 1e-6.
-    pub near: f64,
-}
-
-impl Default for HemicubeOptions {
-    fn default() -> Self {
-        use crate::registry::{default_bool, default_source, default_u64};
-        HemicubeOptions {
-            resolution: default_u64("hemicube", "resolution") as u32,
-            source: default_source("hemicube").0,
-            random_rotation: default_bool("hemicube", "random_rotation"),
-            seed: default_u64("hemicube", "seed"),
-            near: 1e-6,
-        }
+method_options! {
+    /// Options of [`hemicube_row`].
+    pub struct HemicubeOptions for "hemicube" {
+        /// Cells per side of the top face (even, 4..=4096); side faces are R x R/2.
+        /// Default 128 (about 49 000 cells per hemicube).
+        resolution: u32,
+        /// Sample points on the source. Default [`SourcePoints::Auto`].
+        source: SourcePoints,
+        /// Rotate the cube about the normal by a random angle per sample point. Default true.
+        random_rotation: bool,
+        /// Seed of the rotations and source points (results are reproducible per seed). Default 0.
+        seed: u64,
     }
-}
-
-impl HemicubeOptions {
-    pub fn check(&self) -> Result<()> {
-        let r = self.resolution;
-        check_field("hemicube", "resolution", Value::Int(r.into()))?;
+    fixed {
+        /// Near-plane distance relative to the source patch radius, in (0, 0.1]. Geometry closer
+        /// to the eye than this (a thin band of adjacent patches) is lost. Default 1e-6.
+        near: f64 = 1e-6,
+    }
+    check(o) {
+        let r = o.resolution;
         if !r.is_multiple_of(2) {
             return Err(Error::InvalidArgument(format!("method \"hemicube\": option resolution={r} must be even")));
         }
-        if !(self.near > 0.0 && self.near <= 0.1) {
-            return Err(Error::InvalidArgument(format!("hemicube near must be in (0, 0.1], got {}", self.near)));
-        }
-        self.source.check("hemicube")
+        check_near("hemicube", o.near)
     }
 }
 

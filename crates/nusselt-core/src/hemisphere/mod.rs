@@ -101,6 +101,15 @@ pub const MAX_SOURCE_POINTS: u32 = 4096;
 /// `source` option in the registry).
 pub const MAX_GAUSS_ORDER: u32 = 16;
 
+/// Checks a method's near-plane distance (relative to the source radius): in (0, 0.1].
+fn check_near(method: &str, near: f64) -> Result<()> {
+    if near > 0.0 && near <= 0.1 {
+        Ok(())
+    } else {
+        Err(Error::InvalidArgument(format!("{method} near must be in (0, 0.1], got {near}")))
+    }
+}
+
 impl SourcePoints {
     /// Checks the points as the `source` option of row method `method`: a Gauss order in
     /// that option's range in the registry (0 there means [`SourcePoints::Centre`]).

@@ -16,47 +16,31 @@
 use super::{row_over_points, Points, RowResult, SourcePoints};
 use crate::error::Result;
 use crate::geometry::Polygon;
-use crate::registry::{check_field, Value};
+use crate::registry::method_options;
 use crate::sampling::{concentric_disk, hash_unit, lift_to_hemisphere};
 use crate::visibility::Visibility;
 
 /// Largest total cell count per source point (4096^2).
 pub const MAX_CELLS: u32 = 1 << 24;
 
-/// Options of [`nusselt_row`].
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct NusseltOptions {
-    /// Number of equal-area disk cells per source point, rounded to the nearest square s^2
-    /// (1..=2^24). Default 4096 (s = 64, cells of area pi/4096).
-    pub cells: u32,
-    /// Sample points on the source. Default [`SourcePoints::Auto`].
-    pub source: SourcePoints,
-    /// Uniform random point in each cell instead of its centre. Default true.
-    pub jitter: bool,
-    /// Random rotation of the partition about the normal per source point. Default true.
-    pub random_rotation: bool,
-    /// Seed of the jitter, rotations and source points. Default 0.
-    pub seed: u64,
-}
-
-impl Default for NusseltOptions {
-    fn default() -> Self {
-        use crate::registry::{default_bool, default_source, default_u64};
-        NusseltOptions {
-            cells: default_u64("nusselt", "cells") as u32,
-            source: default_source("nusselt").0,
-            jitter: default_bool("nusselt", "jitter"),
-            random_rotation: default_bool("nusselt", "random_rotation"),
-            seed: default_u64("nusselt", "seed"),
-        }
+method_options! {
+    /// Options of [`nusselt_row`].
+    pub struct NusseltOptions for "nusselt" {
+        /// Number of equal-area disk cells per source point, rounded to the nearest square s^2
+        /// (1..=2^24). Default 4096 (s = 64, cells of area pi/4096).
+        cells: u32,
+        /// Sample points on the source. Default [`SourcePoints::Auto`].
+        source: SourcePoints,
+        /// Uniform random point in each cell instead of its centre. Default true.
+        jitter: bool,
+        /// Random rotation of the partition about the normal per source point. Default true.
+        random_rotation: bool,
+        /// Seed of the jitter, rotations and source points. Default 0.
+        seed: u64,
     }
 }
 
 impl NusseltOptions {
-    pub fn check(&self) -> Result<()> {
-        check_field("nusselt", "cells", Value::Int(self.cells.into()))?;
-        self.source.check("nusselt")
-    }
     /// Cells per side of the square grid: s = round(sqrt(cells)), at least 1.
     pub fn side(&self) -> u32 {
         ((self.cells as f64).sqrt().round() as u32).max(1)

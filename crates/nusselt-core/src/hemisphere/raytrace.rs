@@ -16,7 +16,7 @@
 use super::{row_over_points, Points, RowResult};
 use crate::error::Result;
 use crate::geometry::Polygon;
-use crate::registry::{check_field, Value};
+use crate::registry::method_options;
 use crate::sampling::{cosine_hemisphere, hash_seed, sobol4, PolygonSampler};
 use crate::visibility::Visibility;
 
@@ -25,39 +25,22 @@ pub const MAX_RAYS: u32 = 1 << 26;
 /// Rays cast before `row_tol` is first checked (then after each doubling).
 pub const ROW_TOL_FIRST_CHECK: u32 = 256;
 
-/// Options of [`raytrace_row`].
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct RaytraceOptions {
-    /// Rays per row (1..=2^26); with `row_tol` the most a row may cast. A power of two keeps
-    /// the Sobol points stratified. Default 4096 (binomial std error <= 0.0078 per entry,
-    /// about 0.006 at F = 0.2).
-    pub rays: u32,
-    /// Seed; the same seed gives the same row. Default 0.
-    pub seed: u64,
-    /// Target standard error per entry, in [0, 0.5]; 0 (default) casts exactly `rays`. Else
-    /// the row stops at the first ray count N = 256, 512, 1024, ... (capped at `rays`) where
-    /// every entry's binomial error sqrt(F(1 - F)/N) is at most `row_tol` and N >= 3/row_tol
-    /// (so an entry no ray hit has F <= row_tol at 95 %): F(1 - F) <= 1/4 bounds N by about
-    /// 1/(4 row_tol^2). A row at N rays is the fixed-count row of `rays = N`
-    /// (docs/algorithms.md §5.1).
-    pub row_tol: f64,
-}
-
-impl Default for RaytraceOptions {
-    fn default() -> Self {
-        use crate::registry::{default_f64, default_u64};
-        RaytraceOptions {
-            rays: default_u64("raytrace", "rays") as u32,
-            seed: default_u64("raytrace", "seed"),
-            row_tol: default_f64("raytrace", "row_tol"),
-        }
-    }
-}
-
-impl RaytraceOptions {
-    pub fn check(&self) -> Result<()> {
-        check_field("raytrace", "rays", Value::Int(self.rays.into()))?;
-        check_field("raytrace", "row_tol", Value::Float(self.row_tol))
+method_options! {
+    /// Options of [`raytrace_row`].
+    pub struct RaytraceOptions for "raytrace" {
+        /// Rays per row (1..=2^26); with `row_tol` the most a row may cast. A power of two keeps
+        /// the Sobol points stratified. Default 4096 (binomial std error <= 0.0078 per entry,
+        /// about 0.006 at F = 0.2).
+        rays: u32,
+        /// Seed; the same seed gives the same row. Default 0.
+        seed: u64,
+        /// Target standard error per entry, in [0, 0.5]; 0 (default) casts exactly `rays`. Else
+        /// the row stops at the first ray count N = 256, 512, 1024, ... (capped at `rays`) where
+        /// every entry's binomial error sqrt(F(1 - F)/N) is at most `row_tol` and N >= 3/row_tol
+        /// (so an entry no ray hit has F <= row_tol at 95 %): F(1 - F) <= 1/4 bounds N by about
+        /// 1/(4 row_tol^2). A row at N rays is the fixed-count row of `rays = N`
+        /// (docs/algorithms.md §5.1).
+        row_tol: f64,
     }
 }
 

@@ -30,58 +30,41 @@
 //! (0.99584 for the default a = 14); the missed horizon band is reported in `RowResult::lost`.
 
 use super::hemicube::{phi, top_cell};
-use super::{row_over_points, Accum, Points, RowResult, SourcePoints};
-use crate::error::{Error, Result};
+use super::{check_near, row_over_points, Accum, Points, RowResult, SourcePoints};
+use crate::error::Result;
 use crate::geometry::{Polygon, Vec3};
-use crate::registry::{check_field, Value};
+use crate::registry::method_options;
 use std::cell::RefCell;
 use std::f64::consts::PI;
 
 /// Id of a polygon seen from its back side: blocks, received by none.
 const BACK: u32 = u32::MAX - 1;
 
-/// Options of [`single_plane_row`].
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct SinglePlaneOptions {
-    /// Half-width a of the plane (height 1), in [0.5, 1e4]. Default 14: 0.42 % horizon loss.
-    pub half_width: f64,
-    /// Warnock leaf size: side of the smallest window at the plane centre (height 1), in
-    /// [1e-4, 1]; leaves carry at most min_cell^2/pi of form factor. Default 1/128.
-    pub min_cell: f64,
-    /// Sample points on the source. Default [`SourcePoints::Auto`].
-    pub source: SourcePoints,
-    /// Random rotation of the plane about the normal per sample point. Default true.
-    pub random_rotation: bool,
-    /// Seed of rotations and source points. Default 0.
-    pub seed: u64,
-    /// Near distance relative to the source radius, in (0, 0.1]. Default 1e-6.
-    pub near: f64,
-}
-
-impl Default for SinglePlaneOptions {
-    fn default() -> Self {
-        use crate::registry::{default_bool, default_f64, default_source, default_u64};
-        SinglePlaneOptions {
-            half_width: default_f64("single-plane", "half_width"),
-            min_cell: default_f64("single-plane", "min_cell"),
-            source: default_source("single-plane").0,
-            random_rotation: default_bool("single-plane", "random_rotation"),
-            seed: default_u64("single-plane", "seed"),
-            near: 1e-6,
-        }
+method_options! {
+    /// Options of [`single_plane_row`].
+    pub struct SinglePlaneOptions for "single-plane" {
+        /// Half-width a of the plane (height 1), in [0.5, 1e4]. Default 14: 0.42 % horizon loss.
+        half_width: f64,
+        /// Warnock leaf size: side of the smallest window at the plane centre (height 1), in
+        /// [1e-4, 1]; leaves carry at most min_cell^2/pi of form factor. Default 1/128.
+        min_cell: f64,
+        /// Sample points on the source. Default [`SourcePoints::Auto`].
+        source: SourcePoints,
+        /// Random rotation of the plane about the normal per sample point. Default true.
+        random_rotation: bool,
+        /// Seed of rotations and source points. Default 0.
+        seed: u64,
+    }
+    fixed {
+        /// Near distance relative to the source radius, in (0, 0.1]. Default 1e-6.
+        near: f64 = 1e-6,
+    }
+    check(o) {
+        check_near("single-plane", o.near)
     }
 }
 
 impl SinglePlaneOptions {
-    pub fn check(&self) -> Result<()> {
-        check_field("single-plane", "half_width", Value::Float(self.half_width))?;
-        check_field("single-plane", "min_cell", Value::Float(self.min_cell))?;
-        if !(self.near > 0.0 && self.near <= 0.1) {
-            return Err(Error::InvalidArgument(format!("single-plane near must be in (0, 0.1], got {}", self.near)));
-        }
-        self.source.check("single-plane")
-    }
-
     /// Fraction of the hemisphere the plane captures: 4 Phi(a, a).
     pub fn captured(&self) -> f64 {
         4.0 * phi(self.half_width, self.half_width)
@@ -425,6 +408,7 @@ fn project(s: &mut Scratch, poly: &Polygon, id: u32, eye: Vec3, u: Vec3, v: Vec3
 mod tests {
     use super::super::testkit::*;
     use super::*;
+    use crate::error::Error;
 
     #[test]
     fn lambert_on_plane_matches_phi() {

@@ -39,7 +39,6 @@ use subdivision::{adaptive_point, subdivide_at_blockers, uniform_point};
 pub use clipping::MAX_SOURCE_EVALS;
 pub use options::{
     AdaptiveOptions, ClippingOptions, Estimate, Estimator, MonteCarloOptions, QuadratureOptions, SubdivisionOptions,
-    VisMethod,
 };
 
 /// What the estimators need of a scene: its polygons, its occluders with visibility over

@@ -247,10 +247,10 @@ mod tests {
     /// of side s/2 half-way, by `method` with `given` options.
     fn blocked_plates(s: f64, method: &str, given: &[(&str, Value)]) -> f64 {
         let given: Vec<(String, Value)> = given.iter().map(|(k, v)| (k.to_string(), v.clone())).collect();
-        let (m, o) = configure(method, &given).unwrap();
+        let m = configure(method, &given).unwrap();
         let (a, b) = (square(-s / 2., -s / 2., s, 0., true), square(-s / 2., -s / 2., s, 1., false));
         let blocker = square(-s / 4., -s / 4., s / 2., 0.5, true);
-        pair_view_factor(a, b, vec![blocker], m, &o).unwrap().value
+        pair_view_factor(a, b, vec![blocker], &m).unwrap().value
     }
 
     #[test]

@@ -21,6 +21,53 @@ pub fn split_in_four(t: &[Vec3; 3]) -> [[Vec3; 3]; 4] {
     [[t[0], m01, m20], [m01, t[1], m12], [m20, m12, t[2]], [m01, m12, m20]]
 }
 
+/// Deepest bisection of [`graded_panels`].
+pub const MAX_PANEL_DEPTH: u32 = 60;
+
+/// Panels of [0, len] graded toward the complex singularities `sing` of a 1-D integrand
+/// (each: its real part along the interval, its distance from the interval's line), as the
+/// edge-pair kernels of `analytic` and `contour` integrate: a panel [a, b] is bisected
+/// while `split(a, b, d2)` holds, d2 its squared distance to the nearest singularity
+/// (infinite when there is none), at most [`MAX_PANEL_DEPTH`] times; returns the sum of
+/// `panel(a, b, d2)` over the panels kept, depth first, the left half first or (not
+/// `left_first`) the right half first, each caller's sum in the order it was calibrated in.
+/// No allocation: a stack of MAX_PANEL_DEPTH + 4 panels on the call's frame.
+pub fn graded_panels(
+    len: f64,
+    sing: &[(f64, f64)],
+    left_first: bool,
+    split: impl Fn(f64, f64, f64) -> bool,
+    mut panel: impl FnMut(f64, f64, f64) -> f64,
+) -> f64 {
+    let d2 = |a: f64, b: f64| {
+        sing.iter()
+            .map(|&(t, e)| {
+                let dx = (a - t).max(t - b).max(0.0);
+                dx * dx + e * e
+            })
+            .fold(f64::INFINITY, f64::min)
+    };
+    let mut stack = [(0.0f64, 0.0f64, 0u32); MAX_PANEL_DEPTH as usize + 4];
+    stack[0] = (0.0, len, 0);
+    let mut top = 1;
+    let mut total = 0.0;
+    while top > 0 {
+        top -= 1;
+        let (a, b, depth) = stack[top];
+        let d = d2(a, b);
+        if depth < MAX_PANEL_DEPTH && split(a, b, d) {
+            let m = 0.5 * (a + b);
+            let (first, second) = ((a, m, depth + 1), (m, b, depth + 1));
+            // the half taken first is pushed last
+            (stack[top], stack[top + 1]) = if left_first { (second, first) } else { (first, second) };
+            top += 2;
+        } else {
+            total += panel(a, b, d);
+        }
+    }
+    total
+}
+
 /// What [`refine_locally`]'s `visit` decides for a piece.
 pub enum Step<P, const N: usize> {
     /// The piece is done (`visit` has added what it contributes).

@@ -10,11 +10,11 @@
 //! their own pay for visibility: the exact visible region from the point
 //! ([`point_visible_view_factor`]), or the per-point estimator of the method asked for.
 
-use super::{blocked_clusters, bounding_box, morton_ranks, AllOptions, AnyMethod, Scene};
+use super::{blocked_clusters, bounding_box, morton_ranks, AnyMethod, Scene};
 use crate::error::{Error, Result};
 use crate::geometry::{tangent_frame, turns_left, Polygon, Vec3};
 use crate::matrix::PairBlock;
-use crate::obstructed::{self, Context, VisMethod};
+use crate::obstructed::{self, Context, Estimator};
 use crate::quadrature::AreaRule;
 use crate::unobstructed::analytic;
 use crate::visibility::shadow::{hides_whole, point_visible_view_factor, visible_part};
@@ -69,33 +69,27 @@ impl Scene {
         &self,
         points: &[Vec3],
         normals: &[Vec3],
-        m: AnyMethod,
+        m: &AnyMethod,
         obstructed: bool,
-        o: &AllOptions,
         cancel: &AtomicBool,
     ) -> Result<PairBlock> {
-        o.check()?;
+        m.check()?;
         check_points(points, normals)?;
-        let vm = match m {
-            AnyMethod::Row(_) => {
-                return Err(Error::InvalidArgument(
-                    "a row method has no point rows; use a pair method (auto, clipping, ...)".into(),
-                ))
-            }
-            // Lambert's form on the exact visible region, as `auto` and `clipping`
-            AnyMethod::Exact(_) => None,
-            AnyMethod::Visible(vm) => Some(vm),
+        let Some(est) = m.estimator() else {
+            return Err(Error::InvalidArgument(
+                "a row method has no point rows; use a pair method (auto, clipping, ...)".into(),
+            ));
         };
-        let ctx = if obstructed && !self.polygons.is_empty() { Some(self.pair_context(o)?) } else { None };
+        let ctx = if obstructed && !self.polygons.is_empty() { Some(self.pair_context(m)?) } else { None };
         let targets = self.targets(ctx.as_ref());
-        let est = vm.map(|vm| o.estimator(vm));
-        let sampled = matches!(vm, Some(VisMethod::MonteCarlo));
+        // `auto`, `clipping`, `analytic`, `contour`: Lambert's form on the exact visible region
+        let lambert = matches!(est, Estimator::Clipping(_));
+        let sampled = matches!(m, AnyMethod::MonteCarlo(_));
         let hard = |p: Vec3, n: Vec3, j: usize, blockers: &[&Polygon]| -> Result<f64> {
-            match vm {
-                Some(VisMethod::Auto | VisMethod::Clipping) | None => {
-                    Ok(point_visible_view_factor(p, n, &self.polygons[j], blockers))
-                }
-                Some(_) => Ok(obstructed::point(ctx.as_ref().unwrap(), p, n, j, est.as_ref().unwrap())?.value),
+            if lambert {
+                Ok(point_visible_view_factor(p, n, &self.polygons[j], blockers))
+            } else {
+                Ok(obstructed::point(ctx.as_ref().unwrap(), p, n, j, &est)?.value)
             }
         };
         // Monte Carlo carries a standard error: such pairs go through the per-point estimator.
@@ -104,7 +98,7 @@ impl Scene {
             let rows: Vec<Result<Vec<(u32, f64, f64)>>> = per_point(points, normals, cancel, |p, n| {
                 let mut row = Vec::new();
                 for &j in &targets.order {
-                    let e = obstructed::point(c, p, n, j as usize, est.as_ref().unwrap())?;
+                    let e = obstructed::point(c, p, n, j as usize, &est)?;
                     if e.value != 0.0 || e.std_err != 0.0 {
                         row.push((j, e.value, e.std_err));
                     }
@@ -530,10 +524,8 @@ mod tests {
                 nrm.push(Vec3::new(lcg(&mut s) - 0.5, lcg(&mut s) - 0.5, lcg(&mut s) - 0.5).normalize());
             }
         }
-        let o = AllOptions::default();
-        let b = scene
-            .point_rows(&pts, &nrm, AnyMethod::Visible(VisMethod::Auto), true, &o, &AtomicBool::new(false))
-            .unwrap();
+        let m = AnyMethod::Auto(Default::default());
+        let b = scene.point_rows(&pts, &nrm, &m, true, &AtomicBool::new(false)).unwrap();
         let mut hidden = 0;
         for (k, (&p, &nv)) in pts.iter().zip(&nrm).enumerate() {
             let (lo, hi) = (b.indptr[k] as usize, b.indptr[k + 1] as usize);
@@ -542,7 +534,7 @@ mod tests {
             let sum: f64 = b.g[lo..hi].iter().sum();
             assert!((sum - 1.0).abs() < 1e-12, "point {k}: row sum {sum}");
             for j in 0..n {
-                let want = obstructed::point(&ctx, p, nv, j, &o.estimator(VisMethod::Auto)).unwrap().value;
+                let want = obstructed::point(&ctx, p, nv, j, &m.estimator().unwrap()).unwrap().value;
                 let got = row.get(&(j as i32)).copied().unwrap_or(0.0);
                 assert!((got - want).abs() <= 1e-13, "point {k} polygon {j}: {got} against {want}");
                 hidden += (want < analytic::point_polygon(p, nv, scene.polygons[j].vertices()) * (1.0 - 1e-9)) as usize;

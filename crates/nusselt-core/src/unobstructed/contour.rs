@@ -22,6 +22,7 @@
 
 use crate::error::{Error, Result};
 use crate::geometry::{bounding_diameter, clip_pair, segment_distance, Polygon, Vec3};
+use crate::quadrature::adaptive::graded_panels;
 use crate::quadrature::gauss_legendre;
 use crate::unobstructed::analytic::area_routes::{if_cancelling, ILL_CONDITIONED};
 use std::f64::consts::PI;
@@ -270,33 +271,15 @@ fn outer_quadrature(p: Vec3, di: Vec3, li: f64, r: Vec3, dj: Vec3, lj: f64, g: &
         };
         h(u1) - h(u0) - 2.0 * lj
     };
-    let dist = |a: f64, b: f64| -> f64 {
-        sing.iter()
-            .map(|&(tc, eta)| {
-                let dx = (a - tc).max(tc - b).max(0.0);
-                (dx * dx + eta * eta).sqrt()
-            })
-            .fold(f64::INFINITY, f64::min)
-    };
     let hmin = 1e-15 * li;
-    let mut stack = [(0.0f64, 0.0f64); 96];
-    let mut top = 1;
-    stack[0] = (0.0, li);
-    let mut total = 0.0;
-    while top > 0 {
-        top -= 1;
-        let (a, b) = stack[top];
+    let split = |a: f64, b: f64, d2: f64| {
         let h = b - a;
-        if h <= PANEL_RATIO * dist(a, b) || h <= hmin || top + 2 > stack.len() {
-            total += h * g.iter().map(|&(x, w)| w * inner(a + h * x)).sum::<f64>();
-        } else {
-            let m = 0.5 * (a + b);
-            stack[top] = (m, b);
-            stack[top + 1] = (a, m);
-            top += 2;
-        }
-    }
-    total
+        !(h <= PANEL_RATIO * d2.sqrt() || h <= hmin)
+    };
+    graded_panels(li, sing, true, split, |a, b, _| {
+        let h = b - a;
+        h * g.iter().map(|&(x, w)| w * inner(a + h * x)).sum::<f64>()
+    })
 }
 
 #[cfg(test)]

@@ -10,7 +10,7 @@ use super::far_field::{self, FarPlan, FarRule, PackedRule};
 use crate::error::{Error, Result};
 use crate::geometry::{Polygon, Vec3};
 use crate::quadrature::AreaRule;
-use crate::registry::{check_field, Value};
+use crate::registry::{method_options, OptionField};
 use crate::unobstructed::analytic;
 use crate::unobstructed::contour;
 use crate::unobstructed::moments::{moment4_pair, moment_pair, Moments};
@@ -23,7 +23,36 @@ pub enum Method {
     Contour,
 }
 
-/// Options of the pair methods (each method reads the ones it documents).
+method_options! {
+    /// Options of `auto`.
+    pub struct AutoOptions for "auto" {
+        /// Relative accuracy target per unobstructed pair.
+        tol: f64,
+        /// The `tol` of the pairs something may block (computed by `clipping`).
+        obstructed_tol: f64,
+    }
+}
+
+method_options! {
+    /// Options of `analytic`.
+    pub struct AnalyticOptions for "analytic" {
+        /// The `tol` of the pairs something may block (computed by `clipping`).
+        obstructed_tol: f64,
+    }
+}
+
+method_options! {
+    /// Options of `contour`.
+    pub struct ContourOptions for "contour" {
+        /// Gauss-Legendre nodes per edge panel.
+        nodes: usize,
+        /// The `tol` of the pairs something may block (computed by `clipping`).
+        obstructed_tol: f64,
+    }
+}
+
+/// What the unobstructed kernels read (each the field it documents): `auto`'s `tol` and
+/// `contour`'s `nodes`, at their methods' defaults unless a caller sets them.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Options {
     /// `auto`: relative accuracy target per pair.
@@ -34,15 +63,14 @@ pub struct Options {
 
 impl Default for Options {
     fn default() -> Self {
-        use crate::registry::{default_f64, default_u64};
-        Options { tol: default_f64("auto", "tol"), nodes: default_u64("contour", "nodes") as usize }
+        Options { tol: AutoOptions::default().tol, nodes: ContourOptions::default().nodes }
     }
 }
 
 impl Options {
     pub fn check(&self) -> Result<()> {
-        check_field("auto", "tol", Value::Float(self.tol))?;
-        check_field("contour", "nodes", Value::Int(self.nodes as u64))
+        OptionField::check(&self.tol, AutoOptions::METHOD, "tol")?;
+        OptionField::check(&self.nodes, ContourOptions::METHOD, "nodes")
     }
 }
 

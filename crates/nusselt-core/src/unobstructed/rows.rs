@@ -329,8 +329,8 @@ fn other_pair(
 
 #[cfg(test)]
 mod tests {
-    use crate::obstructed::VisMethod;
-    use crate::scene::{AllOptions, AnyMethod, Scene};
+    use crate::scene::{AnyMethod, Scene};
+    use crate::unobstructed::method::AutoOptions;
     use crate::unobstructed::method::{self, Method, Options, RuleCache};
     use crate::{Polygon, Vec3};
     use std::sync::atomic::AtomicBool;
@@ -373,9 +373,8 @@ mod tests {
         assert!(scene.unobstructed());
         let rows: Vec<usize> = (0..n).collect();
         for tol in [0.05, 1e-4, 1e-10] {
-            let mut o = AllOptions::default();
-            o.exact.tol = tol;
-            let out = scene.pair_rows(&rows, AnyMethod::Visible(VisMethod::Auto), &o, &AtomicBool::new(false)).unwrap();
+            let m = AnyMethod::Auto(AutoOptions { tol, ..Default::default() });
+            let out = scene.pair_rows(&rows, &m, &AtomicBool::new(false)).unwrap();
             let cache = RuleCache::new(n);
             let opts = Options { tol, ..Options::default() };
             let mut g = vec![vec![0.0; n]; n];
@@ -409,9 +408,8 @@ mod tests {
         let rows: Vec<usize> = (0..n).collect();
         for tol in [0.03, 1e-3] {
             let plan = crate::unobstructed::far_field::FarPlan::new(tol);
-            let mut o = AllOptions::default();
-            o.exact.tol = tol;
-            let out = scene.pair_rows(&rows, AnyMethod::Visible(VisMethod::Auto), &o, &AtomicBool::new(false)).unwrap();
+            let m = AnyMethod::Auto(AutoOptions { tol, ..Default::default() });
+            let out = scene.pair_rows(&rows, &m, &AtomicBool::new(false)).unwrap();
             let cache = RuleCache::new(n);
             let opts = Options { tol, ..Options::default() };
             let mut fourth = 0;
@@ -469,13 +467,12 @@ mod tests {
         let mut recv = vec![true; n];
         recv[3] = false;
         let scene = Scene::new(polys, recv).unwrap();
-        let o = AllOptions::default();
-        let m = AnyMethod::Visible(VisMethod::Auto);
-        let out = scene.pair_rows(&[0, 3], m, &o, &AtomicBool::new(false)).unwrap();
+        let m = &AnyMethod::Auto(Default::default());
+        let out = scene.pair_rows(&[0, 3], m, &AtomicBool::new(false)).unwrap();
         assert!(!out[0].cols.contains(&3) && out[1].is_empty());
         // a block of rows in any order holds each row's entries where its indptr says
-        let block = scene.pair_block(&[5, 0, 3, 1], m, &o, &AtomicBool::new(false)).unwrap();
-        let single = |i: usize| scene.pair_rows(&[i], m, &o, &AtomicBool::new(false)).unwrap().remove(0);
+        let block = scene.pair_block(&[5, 0, 3, 1], m, &AtomicBool::new(false)).unwrap();
+        let single = |i: usize| scene.pair_rows(&[i], m, &AtomicBool::new(false)).unwrap().remove(0);
         for (k, &i) in [5usize, 0, 3, 1].iter().enumerate() {
             let (s, e) = (block.indptr[k] as usize, block.indptr[k + 1] as usize);
             let row = single(i);
@@ -483,8 +480,8 @@ mod tests {
             assert_eq!(&block.g[s..e], &row.g[..], "row {i}");
         }
         assert_eq!(*block.indptr.last().unwrap() as usize, block.g.len());
-        assert!(scene.pair_rows(&[n], m, &o, &AtomicBool::new(false)).is_err());
-        let cancelled = scene.pair_rows(&[0], m, &o, &AtomicBool::new(true));
+        assert!(scene.pair_rows(&[n], m, &AtomicBool::new(false)).is_err());
+        let cancelled = scene.pair_rows(&[0], m, &AtomicBool::new(true));
         assert_eq!(cancelled.unwrap_err(), crate::Error::Cancelled);
     }
 }

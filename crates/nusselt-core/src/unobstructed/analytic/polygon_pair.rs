@@ -8,6 +8,7 @@
 
 use super::area_routes::{analytic_line_threshold, if_cancelling};
 use crate::geometry::{clip_pair, Polygon, Vec3};
+use crate::quadrature::adaptive::graded_panels;
 use crate::quadrature::gauss_legendre;
 use crate::special::im_li2;
 use std::f64::consts::PI;
@@ -297,32 +298,10 @@ fn single_line(p0: Vec3, la: f64, u: Vec3, q0: Vec3, q1: Vec3, v: Vec3, s_star: 
         }
         acc
     };
-    let mut total = 0.0;
-    // Explicit stack of panels (a, b, depth); depth-first, so at most 61 are pending.
-    let mut stack = [(0.0f64, 0.0f64, 0u32); 64];
-    stack[0] = (0.0, la, 0);
-    let mut top = 1;
-    while top > 0 {
-        top -= 1;
-        let (a, b, depth) = stack[top];
+    // A panel is split while a singularity lies within its length of it.
+    let near = |a: f64, b: f64, d2: f64| d2 < (b - a) * (b - a);
+    graded_panels(la, sing, false, near, |a, b, d2| {
         let len = b - a;
-        let near = sing.iter().any(|&(t, e)| {
-            let dx = if t < a {
-                a - t
-            } else if t > b {
-                t - b
-            } else {
-                0.0
-            };
-            dx * dx + e * e < len * len
-        });
-        if near && depth < 60 {
-            let m = 0.5 * (a + b);
-            stack[top] = (a, m, depth + 1);
-            stack[top + 1] = (m, b, depth + 1);
-            top += 2;
-            continue;
-        }
         // Nodes for rounding-level accuracy: the panel error is ~ rho^(-2n) for the largest
         // Bernstein ellipse (foci at the panel's ends) free of singularities, whose
         // semi-axis sum rho follows from the nearest one's distances to the ends.
@@ -330,10 +309,9 @@ fn single_line(p0: Vec3, la: f64, u: Vec3, q0: Vec3, q1: Vec3, v: Vec3, s_star: 
             .iter()
             .map(|&(t, e)| (((t - a) * (t - a) + e * e).sqrt() + ((t - b) * (t - b) + e * e).sqrt()) / len)
             .fold(f64::INFINITY, f64::min);
-        let n = if near { LINE_NODES } else { nodes_for(semi).unwrap_or(LINE_NODES) };
-        total += len * gauss_legendre(n).iter().map(|&(x, w)| w * phi(a + len * x)).sum::<f64>();
-    }
-    total
+        let n = if near(a, b, d2) { LINE_NODES } else { nodes_for(semi).unwrap_or(LINE_NODES) };
+        len * gauss_legendre(n).iter().map(|&(x, w)| w * phi(a + len * x)).sum::<f64>()
+    })
 }
 
 /// A_a F_ab (= A_b F_ba) for two polygons with nothing in between, exact: the double contour
