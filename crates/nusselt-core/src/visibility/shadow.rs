@@ -19,10 +19,16 @@ use i_overlay::float::single::SingleFloatOverlay;
 use std::borrow::Cow;
 use std::cell::RefCell;
 
-/// Blocker points closer to p's height above the receiver than this fraction are cut off, so
-/// the central projection stays bounded (they could hide only a cone of that relative width
-/// around directions parallel to the receiver, which the window clip removes anyway).
+/// Blocker points closer to p's height above the receiver than this fraction of it are cut
+/// off, so that the central projection stays bounded. What is cut could hide only directions
+/// within depth/distance of parallel to the receiver, which the window clip removes anyway,
+/// unless the blocker passes within about depth x window slope of p.
 const NEAR_P: f64 = 1e-9;
+
+/// ... and than this many times p's coordinates (1000 x rounding): where p's height is large
+/// a cut at 1e-9 of it dropped the near half of a face passing 1e-8 of that height above p
+/// (a point F of 0.029 for 5e-16).
+const NEAR_P_ABS: f64 = 2.2e-13;
 
 /// The part of `receiver` visible from the point `p`, as contours on the receiver's plane.
 ///
@@ -151,7 +157,8 @@ fn cast_into(p: Vec3, n: Vec3, receiver: &Polygon, blockers: &[&Polygon], out: &
     let centre = frame.to3d([0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1])]);
     // Half-spaces (point, inward normal): the receiver side of the receiver plane, the front
     // of the point's surface element, below p; then the pyramid p -> window.
-    let mut clip_planes = [(c, nr), (p, n), (p - NEAR_P * h_p * nr, -nr), (p, n), (p, n), (p, n), (p, n)];
+    let near = (NEAR_P * h_p).min(NEAR_P_ABS * (p.abs().max_element() + scale));
+    let mut clip_planes = [(c, nr), (p, n), (p - near * nr, -nr), (p, n), (p, n), (p, n), (p, n)];
     // the pyramid's planes, set when a blocker first needs them (most points need none)
     let mut pyramid = false;
     let set_pyramid = |planes: &mut [(Vec3, Vec3); 7]| {

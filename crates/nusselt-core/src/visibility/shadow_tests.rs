@@ -640,3 +640,23 @@ fn hides_whole_needs_a_convex_blocker() {
     let wide: Vec<Vec3> = target.iter().map(|v| Vec3::new(4.2 * v.x / 1.6, v.y, 2.0)).collect();
     assert!(!hides_whole(&p, &wide, &hull));
 }
+
+/// A blocker passing 1e-10 above p, nearly parallel to p's plane, hides everything but the
+/// wedge between them: the visible part of the receiver is the same triangle V from every
+/// such p (the blocker's plane separates p from the rest), so F is Lambert's over V. The
+/// blocker's part nearer p's height than 1e-9 of p's height above the receiver used to be
+/// cut off: F 0.029 at (0.49, -0.01, 0) instead of 5e-16.
+#[test]
+fn a_blocker_passing_just_above_the_point_hides_all_but_the_wedge() {
+    let g = 1e-8;
+    let receiver = poly(&[[0., 0., 0.], [0., 0., -1.], [1., 0., 1.]]);
+    let blocker = poly(&[[0., -1., 0.], [0., 0., g], [1., 1., 0.]]);
+    let x = g / (1.0 + 2.0 * g);
+    let wedge = [Vec3::new(0., 0., 0.), Vec3::new(0.5, 0., 0.), Vec3::new(x, 0., x)];
+    for (px, d) in [(0.49, 0.01), (0.45, 0.01), (0.3, 0.01), (0.3, 1e-6), (0.1, 1e-8)] {
+        let p = Vec3::new(px, -d, 0.0);
+        let f = point_visible_view_factor(p, Vec3::Z, &receiver, &[&blocker]);
+        let exact = crate::unobstructed::analytic::point_contour(p, Vec3::Z, &wedge).abs();
+        assert!((f - exact).abs() <= 1e-6 * exact + 1e-15, "p {p}: {f:e} against {exact:e}");
+    }
+}
