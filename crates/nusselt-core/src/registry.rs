@@ -308,7 +308,22 @@ pub static METHODS: &[MethodSpec] = &[
         kind: Kind::Rows,
         obstructed: true,
         doc: "hemicube with z-buffer and item buffer per face, exact delta form factors per cell",
-        options: &[int("resolution", 128, 4, 4096, "cells along the top face (even)"), SOURCE_ROW, ROTATE, SEED, BUDGET],
+        options: &[
+            int("resolution", 128, 4, 4096, "cells along the top face (even; with row_tol: the finest a row may use)"),
+            float(
+                "row_tol",
+                0.0,
+                0.0,
+                0.5,
+                "target aliasing error per entry: a row is rendered at 16, 24, 32, 48, 64, ... cells and stops at the \
+                 first where every entry's estimated error (from the cells along its outline) is at most this and an \
+                 entry no cell saw is below it (0: always `resolution`; needs random_rotation)",
+            ),
+            SOURCE_ROW,
+            ROTATE,
+            SEED,
+            BUDGET,
+        ],
     },
     MethodSpec {
         name: "single-plane",

@@ -24,7 +24,7 @@
 //! points), and partial visibility. Random rotation about the normal per sample point turns
 //! the structured aliasing into noise that averages out over points and patches.
 
-use super::{check_near, row_over_points, Accum, Points, RowResult, SourcePoints};
+use super::{check_near, check_row, place_points, row_over_points, Accum, Points, RowResult, SourcePoints};
 use crate::error::{Error, Result};
 use crate::geometry::{Polygon, Vec3};
 use crate::registry::method_options;
@@ -40,8 +40,14 @@ method_options! {
     /// Options of [`hemicube_row`].
     pub struct HemicubeOptions for "hemicube" {
         /// Cells per side of the top face (even, 4..=4096); side faces are R x R/2.
-        /// Default 128 (about 49 000 cells per hemicube).
+        /// Default 128 (about 49 000 cells per hemicube). With `row_tol`: the finest a row may use.
         resolution: u32,
+        /// Target aliasing error per entry, in [0, 0.5]; 0 (default) renders at `resolution`. Else
+        /// a row is rendered at 16, 24, 32, 48, 64, 96, ... cells (capped at `resolution`) and stops
+        /// at the first where every entry's estimated aliasing error (the standard deviation over
+        /// the random rotations, from the cells along its outline) is at most `row_tol` and an entry
+        /// no cell saw is below `row_tol` too (docs/algorithms.md §2.5). Needs `random_rotation`.
+        row_tol: f64,
         /// Sample points on the source. Default [`SourcePoints::Auto`].
         source: SourcePoints,
         /// Rotate the cube about the normal by a random angle per sample point. Default true.
@@ -58,6 +64,13 @@ method_options! {
         let r = o.resolution;
         if !r.is_multiple_of(2) {
             return Err(Error::InvalidArgument(format!("method \"hemicube\": option resolution={r} must be even")));
+        }
+        if o.row_tol > 0.0 && !o.random_rotation {
+            return Err(Error::InvalidArgument(format!(
+                "method \"hemicube\": option row_tol={} needs random_rotation=true (its error estimate is the spread \
+                 over random rotations of the cube)",
+                o.row_tol
+            )));
         }
         check_near("hemicube", o.near)
     }
@@ -111,6 +124,10 @@ struct Scratch {
     depth: Vec<f64>,
     item: Vec<u32>,
     local: Vec<Vec3>,
+    /// Per patch: the aliasing variance of its entry (`row_tol`).
+    var: Accum,
+    /// Source points of a `row_tol` row (for their weights).
+    points: Vec<(Vec3, f64)>,
     clip_a: Vec<Vec3>,
     clip_b: Vec<Vec3>,
     proj: Vec<[f64; 2]>,
@@ -247,37 +264,153 @@ fn rasterize(
 ///
 /// `receivers[j]` says whether column j is reported; non-receivers still block. The source
 /// itself is skipped. F_ij = sum_k w_k sum_{cells of face sets at point k showing j} dF.
+/// With `row_tol` the row's `samples` is the resolution it stopped at.
 pub fn hemicube_row(scene: &[Polygon], receivers: &[bool], i: usize, opts: &HemicubeOptions) -> Result<RowResult> {
     opts.check()?;
-    let res = opts.resolution as usize;
-    let rotation = opts.random_rotation.then_some(0x0420_7A7E);
-    let points = Points::Rule { source: opts.source, seed: opts.seed, rotation };
     SCRATCH.with(|s| {
-        let mut s = s.borrow_mut();
-        let s = &mut *s;
-        let mut row = row_over_points(scene, receivers, i, points, |eye, acc, lost| {
-            let near = opts.near * scene[i].radius();
-            // Eye a hair above the element: nothing of the source plane can be in front.
-            let at = eye.p + eye.n * (0.5 * near);
-            // one work unit per cell; stop at cancellation or over budget
-            if !crate::work::spend(3 * (res * res) as u64) {
-                return false;
-            }
-            if !s.prepare(res) {
-                return false;
-            }
-            for (j, poly) in scene.iter().enumerate() {
-                if j == i || (j % 256 == 0 && !crate::work::go_on()) {
-                    continue;
-                }
-                project_polygon(s, poly, j as u32, at, eye.u, eye.v, eye.n, near, res);
-            }
-            *lost += eye.weight * accumulate(s, acc, res, eye.weight);
-            true
-        })?;
-        row.lost = row.lost.max(0.0);
-        Ok(row)
+        let s = &mut *s.borrow_mut();
+        if opts.row_tol > 0.0 {
+            row_to_tolerance(s, scene, receivers, i, opts)
+        } else {
+            render_row(s, scene, receivers, i, opts, opts.resolution as usize, false)
+        }
     })
+}
+
+/// The resolutions a `row_tol` row is rendered at: the first of 16, 24, 32, 48, 64, 96, ...
+/// (2^k and 3 x 2^(k-1), each at most 1.5x the one before) that is at least `r`.
+fn ladder_at_least(r: f64) -> usize {
+    let mut a = 16usize;
+    while (a as f64) < r && a < 1 << 20 {
+        a = if a.is_power_of_two() { a / 2 * 3 } else { a / 3 * 4 };
+    }
+    a
+}
+
+/// A row rendered at increasing resolutions until its aliasing estimate meets `row_tol`
+/// (docs/algorithms.md §2.5). Each rendering is the fixed-resolution row at that resolution.
+fn row_to_tolerance(
+    s: &mut Scratch,
+    scene: &[Polygon],
+    receivers: &[bool],
+    i: usize,
+    opts: &HemicubeOptions,
+) -> Result<RowResult> {
+    check_row(scene, receivers, i)?;
+    let (tol, cap) = (opts.row_tol, opts.resolution as usize);
+    // An entry that no cell saw at any source point: F <= min(1, 3 sum w_k^2) x the largest
+    // cell's dF at 95 % (`unseen`), so the first rendering is the coarsest where that meets tol.
+    let mut pts = std::mem::take(&mut s.points);
+    place_points(scene, i, rule_points(opts), &mut pts);
+    let unseen = (3.0 * pts.iter().map(|p| p.1 * p.1).sum::<f64>()).min(1.0);
+    s.points = pts;
+    let brightest = |r: usize| top_cell(0.0, 2.0 / r as f64, 0.0, 2.0 / r as f64);
+    let mut res = 16usize;
+    while res < cap && unseen * brightest(res) > tol {
+        res = ladder_at_least(res as f64 + 1.0);
+    }
+    loop {
+        res = res.min(cap);
+        let mut row = render_row(s, scene, receivers, i, opts, res, true)?;
+        let err = s.var.max_over(receivers).sqrt();
+        if err <= tol || res >= cap || !crate::work::go_on() {
+            row.samples = res as u32;
+            return Ok(row);
+        }
+        // the estimate falls like (cell size)^p, p from 1 (edges along the cells) to 3/2 (edges
+        // across them): aim at the resolution p = 1.25 says meets tol
+        res = ladder_at_least((res as f64 * (err / tol).powf(0.8)).max(res as f64 + 1.0));
+    }
+}
+
+fn rule_points(opts: &HemicubeOptions) -> Points {
+    Points::Rule { source: opts.source, seed: opts.seed, rotation: opts.random_rotation.then_some(0x0420_7A7E) }
+}
+
+/// The row at resolution `res`; with `estimate`, `s.var` holds each patch's aliasing variance.
+fn render_row(
+    s: &mut Scratch,
+    scene: &[Polygon],
+    receivers: &[bool],
+    i: usize,
+    opts: &HemicubeOptions,
+    res: usize,
+    estimate: bool,
+) -> Result<RowResult> {
+    if estimate {
+        s.var.reset(scene.len());
+    }
+    let mut row = row_over_points(scene, receivers, i, rule_points(opts), |eye, acc, lost| {
+        let near = opts.near * scene[i].radius();
+        // Eye a hair above the element: nothing of the source plane can be in front.
+        let at = eye.p + eye.n * (0.5 * near);
+        // one work unit per cell; stop at cancellation or over budget
+        if !crate::work::spend(3 * (res * res) as u64) {
+            return false;
+        }
+        if !s.prepare(res) {
+            return false;
+        }
+        for (j, poly) in scene.iter().enumerate() {
+            if j == i || (j % 256 == 0 && !crate::work::go_on()) {
+                continue;
+            }
+            project_polygon(s, poly, j as u32, at, eye.u, eye.v, eye.n, near, res);
+        }
+        *lost += eye.weight * accumulate(s, acc, res, eye.weight);
+        if estimate {
+            add_outline_variance(s, res, eye.weight * eye.weight);
+        }
+        true
+    })?;
+    row.lost = row.lost.max(0.0);
+    Ok(row)
+}
+
+/// Adds weight^2 x the aliasing variance of this rendering to `s.var` for every patch
+/// (docs/algorithms.md §2.5). Two neighbouring cells of one face that show different items
+/// mark a cell cut by an outline; its centre sample is off by dF (1 - p) or -dF p, p the
+/// covered part, variance p (1 - p) dF^2, 1/6 dF^2 on average. Cuts in a straight run (the same
+/// pair of items across consecutive rows or columns, as where an edge lies along the cells:
+/// every edge parallel to the normal does on the side faces, whatever the rotation) may all
+/// be off the same way, so a run counts as one error of the run's summed dF.
+fn add_outline_variance(s: &mut Scratch, res: usize, weight2: f64) {
+    let Scratch { top, side, item, var, .. } = s;
+    let mut close = |run: &mut (u32, u32, f64)| {
+        let v = weight2 * run.2 * run.2 / 6.0;
+        for j in [run.0, run.1] {
+            if v > 0.0 && j != EMPTY && j != BACK {
+                var.add(j, v);
+            }
+        }
+        *run = (EMPTY, EMPTY, 0.0);
+    };
+    let side_len = res * res / 2;
+    for f in 0..5 {
+        let (off, rows, table): (usize, usize, &[f64]) =
+            if f == 0 { (0, res, top) } else { (res * res + (f - 1) * side_len, res / 2, side) };
+        let cells = &item[off..off + rows * res];
+        // cuts between columns c and c + 1, run along the rows; then between rows, along columns
+        for (n_out, n_in, step_out, step_in, next) in [(res - 1, rows, 1, res, 1), (rows - 1, res, res, 1, res)] {
+            for o in 0..n_out {
+                let mut run = (EMPTY, EMPTY, 0.0);
+                for m in 0..n_in {
+                    let k = o * step_out + m * step_in;
+                    let (a, b) = (cells[k], cells[k + next]);
+                    if a == b {
+                        close(&mut run);
+                    } else {
+                        if (a, b) != (run.0, run.1) {
+                            close(&mut run);
+                            (run.0, run.1) = (a, b);
+                        }
+                        run.2 += 0.5 * (table[k] + table[k + next]);
+                    }
+                }
+                close(&mut run);
+            }
+        }
+    }
 }
 
 /// Clips `poly` to the element's front half-space, then per face to the near plane, and
@@ -564,6 +697,101 @@ mod tests {
         }
     }
 
+    /// A near-point source (half-width 1e-5 at the origin, facing +z) and receivers with
+    /// their exact F from the point: a unit square on axis, a small square off axis, a wall
+    /// standing on the horizon (edges along the side faces' cells).
+    fn lambert_cases() -> Vec<(Vec<Polygon>, f64)> {
+        let small = (Vec3::new(0.3, 0.2, 1.), Vec3::new(0.05, 0., 0.), Vec3::new(0., 0.05, 0.));
+        let wall = (Vec3::new(2., -1., 0.), Vec3::new(0., 2., 0.), Vec3::new(0., 0., 1.));
+        let sq = |(o, u, v): (Vec3, Vec3, Vec3)| quad(o, o + v, o + u + v, o + u); // facing the origin
+        let f = |(o, u, v): (Vec3, Vec3, Vec3)| point_to_polygon_midpoint(Vec3::ZERO, Vec3::Z, o, u, v, 1000);
+        let unit = (Vec3::new(-0.5, -0.5, 1.), Vec3::new(1., 0., 0.), Vec3::new(0., 1., 0.));
+        [unit, small, wall]
+            .into_iter()
+            .map(|g| {
+                (
+                    vec![small_square(Vec3::ZERO, 1e-5), sq(g)],
+                    if g == unit { 4.0 * corner_rect(0.5, 0.5) } else { f(g) },
+                )
+            })
+            .collect()
+    }
+
+    #[test]
+    fn row_tol_meets_its_target_against_lambert() {
+        let rec = [true, true];
+        for (scene, exact) in lambert_cases() {
+            for tol in [1e-3, 1e-4] {
+                let (mut e2, mut fixed2, n) = (0.0, 0.0, 24);
+                for seed in 0..n {
+                    let o = HemicubeOptions {
+                        resolution: 4096,
+                        row_tol: tol,
+                        source: SourcePoints::Centre,
+                        seed,
+                        ..Default::default()
+                    };
+                    let r = hemicube_row(&scene, &rec, 0, &o).unwrap();
+                    let res = r.samples;
+                    assert!(res >= 16 && (res as usize) == ladder_at_least(res as f64), "{res}");
+                    // the row is the fixed-resolution row at the resolution it stopped at
+                    let fixed = HemicubeOptions { resolution: res, row_tol: 0.0, ..o };
+                    assert_eq!(r.entries, hemicube_row(&scene, &rec, 0, &fixed).unwrap().entries);
+                    e2 += (r.get(1) - exact).powi(2);
+                    let coarse = HemicubeOptions { resolution: 16, row_tol: 0.0, ..o };
+                    fixed2 += (hemicube_row(&scene, &rec, 0, &coarse).unwrap().get(1) - exact).powi(2);
+                }
+                let (rms, rms16) = ((e2 / n as f64).sqrt(), (fixed2 / n as f64).sqrt());
+                eprintln!("F {exact:.3e} tol {tol:e}: rms error {rms:.2e} (resolution 16: {rms16:.2e})");
+                // the error is a spread over the rotations: its rms meets the target
+                assert!(rms <= tol, "F {exact}: rms {rms} for tol {tol}");
+                assert!(rms16 > 2.0 * rms, "{rms16} {rms}");
+            }
+        }
+    }
+
+    #[test]
+    fn row_tol_estimate_covers_the_spread() {
+        // at fixed resolutions: the rms of the real error over rotations is below the rms of the
+        // estimate (the estimate is conservative: 0.2-0.6x measured)
+        let rec = [true, true];
+        for (scene, exact) in lambert_cases() {
+            for res in [64usize, 256] {
+                let (mut e2, mut s2, n) = (0.0, 0.0, 32);
+                for seed in 0..n {
+                    let o = HemicubeOptions { source: SourcePoints::Centre, seed, ..Default::default() };
+                    SCRATCH.with(|s| {
+                        let s = &mut *s.borrow_mut();
+                        let r = render_row(s, &scene, &rec, 0, &o, res, true).unwrap();
+                        e2 += (r.get(1) - exact).powi(2);
+                        s2 += s.var.max_over(&rec);
+                    });
+                }
+                assert!(
+                    e2 < s2,
+                    "F {exact} res {res}: rms error {} estimate {}",
+                    (e2 / n as f64).sqrt(),
+                    (s2 / n as f64).sqrt()
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn row_tol_rows_close_in_a_box() {
+        let scene = closed_box(Vec3::ZERO, Vec3::ONE, 3, true);
+        let rec = vec![true; scene.len()];
+        for i in [0usize, 13, 40] {
+            let o = HemicubeOptions { resolution: 512, row_tol: 2e-3, ..Default::default() };
+            let r = hemicube_row(&scene, &rec, i, &o).unwrap();
+            assert!((r.sum() - 1.0).abs() < 1e-6 && r.lost < 1e-6, "row {i}: {}", r.sum());
+            assert!(r.entries.iter().all(|e| e.1 > 0.0) && r.samples <= 512);
+        }
+        // the cap holds
+        let o = HemicubeOptions { resolution: 40, row_tol: 1e-6, ..Default::default() };
+        assert_eq!(hemicube_row(&scene, &rec, 0, &o).unwrap().samples, 40);
+    }
+
     #[test]
     fn bad_input() {
         let scene = parallel_squares(1.0);
@@ -574,6 +802,10 @@ mod tests {
             HemicubeOptions { resolution: 33, ..Default::default() },
             HemicubeOptions { resolution: 1 << 30, ..Default::default() },
             HemicubeOptions { near: f64::NAN, ..Default::default() },
+            HemicubeOptions { row_tol: -1e-3, ..Default::default() },
+            HemicubeOptions { row_tol: f64::NAN, ..Default::default() },
+            HemicubeOptions { row_tol: 0.6, ..Default::default() },
+            HemicubeOptions { row_tol: 1e-3, random_rotation: false, ..Default::default() },
             HemicubeOptions { near: 0.0, ..Default::default() },
             HemicubeOptions { source: SourcePoints::Points(0), ..Default::default() },
             HemicubeOptions { source: SourcePoints::Points(1_000_000_000), ..Default::default() },

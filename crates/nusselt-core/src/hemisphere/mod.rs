@@ -49,7 +49,8 @@ pub struct RowResult {
     /// Fraction of the source's hemisphere assigned to no patch: back-face hits, directions
     /// that see nothing, and (single plane) the horizon band missed by the plane.
     pub lost: f64,
-    /// Rays cast (raytrace, fewer than `rays` where `row_tol` stopped the row); 0 otherwise.
+    /// Rays cast (raytrace, fewer than `rays` where `row_tol` stopped the row), or the
+    /// resolution a hemicube row with `row_tol` stopped at; 0 otherwise.
     pub samples: u32,
 }
 
@@ -212,22 +213,7 @@ pub(crate) fn row_over_points(
         let mut r = r.borrow_mut();
         let (acc, pts) = &mut *r;
         acc.reset(scene.len());
-        let (seed, rotation) = match points {
-            Points::Rule { source, seed, rotation } => {
-                let size = scene_diameter(scene);
-                let cut = matches!(source, SourcePoints::Auto | SourcePoints::Gauss(_))
-                    && rule_over_pieces(&source_cuts::source_pieces(scene, i), source, size, seed, i, pts);
-                if !cut {
-                    source.generate(src, size, seed, i, pts);
-                }
-                (seed, rotation)
-            }
-            Points::WholePatch => {
-                pts.clear();
-                pts.push((src.centroid(), 1.0));
-                (0, None)
-            }
-        };
+        let (seed, rotation) = place_points(scene, i, points, pts);
         let mut lost = 0.0;
         for (k, &(p, weight)) in pts.iter().enumerate() {
             let angle = rotation.map_or(0.0, |salt| 2.0 * PI * hash_unit(seed, &[i as u64, k as u64, salt]));
@@ -238,6 +224,32 @@ pub(crate) fn row_over_points(
         }
         Ok(RowResult { entries: acc.entries(receivers), std_err: None, lost, samples: 0 })
     })
+}
+
+/// Writes the points and weights of `points` on source `i` to `pts`; returns the seed and the
+/// rotation salt of their frames.
+pub(crate) fn place_points(
+    scene: &[Polygon],
+    i: usize,
+    points: Points,
+    pts: &mut Vec<(Vec3, f64)>,
+) -> (u64, Option<u64>) {
+    match points {
+        Points::Rule { source, seed, rotation } => {
+            let size = scene_diameter(scene);
+            let cut = matches!(source, SourcePoints::Auto | SourcePoints::Gauss(_))
+                && rule_over_pieces(&source_cuts::source_pieces(scene, i), source, size, seed, i, pts);
+            if !cut {
+                source.generate(&scene[i], size, seed, i, pts);
+            }
+            (seed, rotation)
+        }
+        Points::WholePatch => {
+            pts.clear();
+            pts.push((scene[i].centroid(), 1.0));
+            (0, None)
+        }
+    }
 }
 
 /// Replaces the points of a Gauss rule over a whole source by the rule over each of `pieces`
@@ -337,6 +349,10 @@ impl Accum {
     /// Largest f(value) over the touched ids (0 when none is touched).
     pub(crate) fn max_value(&self, f: impl Fn(f64) -> f64) -> f64 {
         self.touched.iter().map(|&j| f(self.acc[j as usize])).fold(0.0, f64::max)
+    }
+    /// Largest value over the touched ids that are receivers (0 when there is none).
+    pub(crate) fn max_over(&self, receivers: &[bool]) -> f64 {
+        self.touched.iter().filter(|&&j| receivers[j as usize]).map(|&j| self.acc[j as usize]).fold(0.0, f64::max)
     }
     /// Sorted (j, value) for the receivers among the touched ids.
     pub(crate) fn entries(&mut self, receivers: &[bool]) -> Vec<(u32, f64)> {
