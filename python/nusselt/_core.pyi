@@ -16,6 +16,7 @@ __all__ = [
     "methods",
     "view_factor",
     "point_view_factor",
+    "num_threads",
     "_panic_guard_selftest",
 ]
 
