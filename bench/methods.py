@@ -6,6 +6,7 @@ the defaults of the sampled pair methods, and the calibration of the work budget
     python bench/methods.py budget          # work units per CPU second (docs/guide.md)
     python bench/methods.py interrupt       # seconds from Ctrl-C to KeyboardInterrupt, per method
     python bench/methods.py extremes        # every option at its range ends: finishes or budget error
+    python bench/methods.py plot room.json office.json urban.json   # docs/methods.png from `scenes --json`
     python bench/methods.py scenes --scenes room --methods subdivision adaptive
 
 `scenes`: each method at its defaults on the 270-patch closed room with a floating crate
@@ -533,29 +534,35 @@ def interrupt(args):
 
 
 def plot(rows, path):
-    """Surface error vs CPU (log-log), one marker per method and scene (matplotlib)."""
+    """Surface error vs CPU (log-log), one marker per method and scene (matplotlib). Where a
+    method ran on sample rows only (office, urban), its error is the sample rows'
+    patch-to-surface error (hollow marker), of which the surface-level F is a mean."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    fig, ax = plt.subplots(figsize=(7.5, 5))
+    fig, ax = plt.subplots(figsize=(8, 5.5))
+    exact = PAIR_METHODS + ["auto", "clipping", "analytic", "contour"]
     for key, marker in (("room", "o"), ("office", "s"), ("urban", "^")):
-        pts = [r for r in rows if r["scene"] == key and r.get("surface_err") is not None]
-        for r in pts:
-            err = max(r["surface_err"], 1e-16)
-            ax.scatter(
-                r["cpu"],
-                err,
-                marker=marker,
-                color="C0" if r["method"] in PAIR_METHODS + ["auto", "clipping", "analytic", "contour"] else "C3",
-            )
-            ax.annotate(r["method"], (r["cpu"], err), fontsize=7, xytext=(3, 3), textcoords="offset points")
+        for r in rows:
+            if r.get("scene") != key or r.get("cpu") is None:
+                continue
+            whole = r.get("surface_err") is not None
+            err = max(r["surface_err"] if whole else r.get("row_surface_err", math.nan), 1e-16)
+            if not math.isfinite(err):
+                continue
+            color = "C0" if r["method"] in exact else "C3"
+            ax.scatter(r["cpu"], err, marker=marker, facecolors=color if whole else "none", edgecolors=color)
+            ax.annotate(r["method"], (r["cpu"], err), fontsize=6, xytext=(3, 3), textcoords="offset points")
+    for key, marker in (("room (270)", "o"), ("office (2 322)", "s"), ("urban (2 560)", "^")):
+        ax.scatter([], [], marker=marker, facecolors="none", edgecolors="k", label=key)
+    ax.legend(fontsize=7, loc="lower right")
     ax.set_xscale("log")
     ax.set_yscale("log")
-    ax.set_xlabel("CPU seconds (user + sys, RAYON_NUM_THREADS=2)")
-    ax.set_ylabel("max surface-level |F - F_auto|")
-    ax.set_title("Every method at its defaults: 270-patch room with a crate (blue: pair, red: row methods)")
+    ax.set_xlabel("CPU seconds (user + sys, RAYON_NUM_THREADS=2; sampled runs projected)")
+    ax.set_ylabel("max surface-level |F - F_auto| (hollow: patch-to-surface, sample rows)")
+    ax.set_title("Every method at its defaults (blue: pair methods, red: row methods)")
     ax.title.set_fontsize(9)
     ax.grid(True, which="both", alpha=0.3)
     fig.tight_layout()
@@ -585,6 +592,9 @@ def main():
     i.add_argument("--methods", nargs="+", default=ALL_METHODS)
     i.add_argument("--repeats", type=int, default=3)
     sub.add_parser("budget")
+    p = sub.add_parser("plot", help="the accuracy-vs-CPU plot from the JSON of `scenes` runs")
+    p.add_argument("json", nargs="+")
+    p.add_argument("--out", default="docs/methods.png")
     e = sub.add_parser("extremes")
     e.add_argument("--methods", nargs="+", default=ALL_METHODS)
     e.add_argument("--budget", type=int, default=2**20, help="work units per pair or row")
@@ -601,6 +611,8 @@ def main():
             plot(rows, args.plot)
     elif args.what == "interrupt":
         interrupt(args)
+    elif args.what == "plot":
+        plot([r for f in args.json for r in json.loads(pathlib.Path(f).read_text())], args.out)
     elif args.what == "extremes":
         extremes(args)
     else:
