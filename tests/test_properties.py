@@ -140,6 +140,22 @@ def _free(polys):
     return np.array([[nusselt.view_factor(polys[i], polys[j]) if i != j else 0.0 for j in range(n)] for i in range(n)])
 
 
+def _with_and_without(polys, obstacle):
+    """F of the scene of `polys` and of the same scene with `obstacle` added (obstruction only),
+    both at the defaults."""
+    F = nusselt.form_factors(nusselt.Scene.from_polygons(polys)).matrix.toarray()
+    scene = nusselt.Scene.from_polygons([*polys, obstacle], obstruction=[False] * len(polys) + [True])
+    return F, nusselt.form_factors(scene).matrix.toarray()
+
+
+def _assert_obstacle_only_takes_away(polys, obstacle):
+    """Adding `obstacle` raises no F by more than the two results' errors (obstructed_tol x
+    F_free each, F_free every pair's unobstructed F)."""
+    F, blocked = _with_and_without(polys, obstacle)
+    slack = 2 * DEFAULT_OBSTRUCTED_TOL * _free(polys) + 1e-12
+    assert (blocked <= F + slack).all(), np.max((blocked - F) / slack)
+
+
 # Found by the long run (NUSSELT_HYPOTHESIS=long, 10 000 examples).
 def test_replay_nearly_touching_pair_scaled():
     # planes 1e-9 rad apart, piercing each other: the cut was placed by heights rounded to
@@ -164,9 +180,7 @@ def test_replay_obstacle_takes_away_in_the_scene_path():
         )
     ]
     obstacle = np.array([[0.0, 0.0, 1.0], [0.0, 1.0, -1.0], [0.0, 0.0, 0.0]])
-    F = nusselt.form_factors(nusselt.Scene.from_polygons(polys)).matrix.toarray()
-    scene = nusselt.Scene.from_polygons([*polys, obstacle], obstruction=[False] * 5 + [True])
-    blocked = nusselt.form_factors(scene).matrix.toarray()
+    F, blocked = _with_and_without(polys, obstacle)
     free_f = nusselt.view_factor(polys[4], polys[2])
     # F[4, 2] 3.01431e-3 in both the free scene and the pair path (every other face a blocker),
     # 3.01450e-3 in the blocked scene at the default tol (64 x tol F_free above) until a start
@@ -179,11 +193,7 @@ def test_replay_hidden_obstacle_in_the_scene_path():
     # before the events bounding face 1's shadow, whose samples then all missed a sliver of
     # it (F[4, 2] 9.7 x the bound above the free scene's)
     *polys, obstacle = [np.array(p) for p in _literal(DATA / "hidden_obstacle.txt")]
-    F = nusselt.form_factors(nusselt.Scene.from_polygons(polys)).matrix.toarray()
-    scene = nusselt.Scene.from_polygons([*polys, obstacle], obstruction=[False] * 5 + [True])
-    blocked = nusselt.form_factors(scene).matrix.toarray()
-    slack = 2 * DEFAULT_OBSTRUCTED_TOL * _free(polys) + 1e-12
-    assert (blocked <= F + slack).all(), np.max((blocked - F) / slack)
+    _assert_obstacle_only_takes_away(polys, obstacle)
 
 
 # Two faces over one triangle, facing each other 1e-8 apart (face 2 is face 1 with a vertex
@@ -243,8 +253,4 @@ def test_replay_obstacle_touching_the_source_at_a_vertex():
         )
     ]
     obstacle = np.array([[0.0, 0.0, 1.0], [0.0, 0.0, 0.5], [0.0, 1.0, 0.0]])
-    F = nusselt.form_factors(nusselt.Scene.from_polygons(polys)).matrix.toarray()
-    scene = nusselt.Scene.from_polygons([*polys, obstacle], obstruction=[False] * 4 + [True])
-    blocked = nusselt.form_factors(scene).matrix.toarray()
-    slack = 2 * DEFAULT_OBSTRUCTED_TOL * _free(polys) + 1e-12
-    assert (blocked <= F + slack).all(), np.max((blocked - F) / slack)
+    _assert_obstacle_only_takes_away(polys, obstacle)
