@@ -1,17 +1,66 @@
 //! `clipping` (and obstructed pairs of `auto`): the exact visible region per source point,
 //! integrated over the source adaptively.
 
-use super::rules::{area3, centroid3, radon7, rule_integral};
-use super::ClippingOptions;
+use super::kinks::split_at_kinks;
+use super::rules::{area3, centroid3, radon7, rule_integral, source_points};
+use super::{ClippingOptions, Estimate};
 use crate::geometry::{clip_to_halfspace, plane_chord, Polygon, Vec3};
 use crate::quadrature::adaptive::split_in_four;
+use crate::visibility::shadow::{point_free_and_shadowed, point_shadowed_view_factor};
+
+/// G = A_a F_ab of a pair by `clipping`, given its candidate `blockers` (none hides it whole),
+/// the parts `sa`, `sb` of a and b in front of each other and its unobstructed G `free`.
+pub(super) fn pair(
+    a: &Polygon,
+    b: &Polygon,
+    sa: &Polygon,
+    sb: &Polygon,
+    blockers: &[&Polygon],
+    free: f64,
+    o: &ClippingOptions,
+) -> Estimate {
+    match o.source {
+        None => {
+            // G = G_free - (integral of the shadowed part): the exact kernel handles
+            // touching pairs, the adaptive rule refines along shadows only.
+            // Relative target: blocked F <= unobstructed F, so an error of tol * G_free
+            // is also within tol absolute, and small (distant) pairs cost little.
+            if free <= 0.0 {
+                return Estimate::exact(0.0);
+            }
+            // G is symmetric: integrate over the side the blockers keep farther from
+            // (a blocker close above the source makes the shadowed F peak beneath it)
+            let (src, rec, src_part, rec_part) =
+                if clearance(a, blockers) < clearance(b, blockers) { (b, a, sb, sa) } else { (a, b, sa, sb) };
+            let shadowed = |x: Vec3, bl: &[&Polygon]| point_shadowed_view_factor(x, src.normal(), rec, bl);
+            let start = split_at_kinks(src_part, rec, blockers);
+            let test = ShadowTest::new(rec_part, blockers);
+            let cut = cut_to_slab(src, rec, blockers);
+            let casters: Vec<&Polygon> = blockers.iter().zip(&cut).map(|(b, c)| c.as_ref().unwrap_or(b)).collect();
+            let hidden = adaptive_over_source(&start, blockers, &shadowed, &casters, &test, o.tol * free, o);
+            Estimate::exact((free - hidden).clamp(0.0, free))
+        }
+        Some(k) => {
+            // Ratio estimator: the exact unobstructed G times the rule's visible fraction of
+            // the point F. Exact for pairs fully hidden or not hidden at all; a touching
+            // pair's steep kernel cancels in the ratio.
+            let (mut vis, mut all) = (0.0, 0.0);
+            for (x, w) in source_points(sa, k) {
+                let (f_free, f_hidden) = point_free_and_shadowed(x, a.normal(), b, blockers);
+                vis += w * (f_free - f_hidden);
+                all += w * f_free;
+            }
+            Estimate::exact(if all > 0.0 { (free * vis / all).clamp(0.0, free) } else { free })
+        }
+    }
+}
 
 /// How far the blockers keep from the plane of `p`, relative to p's size: the least height of
 /// a blocker vertex in front of it, and [`CROSSING_CLEARANCE`] for a blocker that crosses
 /// the plane. A vertex within 1e-9 of p's size counts as on the plane, so that a vertex
 /// shared with p gives the same answer wherever the scene lies (its distance rounds to 0 or
 /// +-1e-16 |x|).
-pub(super) fn clearance(p: &Polygon, blockers: &[&Polygon]) -> f64 {
+fn clearance(p: &Polygon, blockers: &[&Polygon]) -> f64 {
     let (c, n) = (p.centroid(), p.normal());
     let tol = 1e-9 * p.radius();
     let mut least = f64::INFINITY;
@@ -37,7 +86,7 @@ pub(super) fn clearance(p: &Polygon, blockers: &[&Polygon]) -> f64 {
 /// source's), which every point evaluation would otherwise cut them to again (a quarter of
 /// the building's CPU at obstructed_tol 1e-3). A blocker inside the slab, or whose cut is no
 /// polygon, stays as it is (the evaluation cuts or rejects it itself).
-pub(super) fn cut_to_slab(source: &Polygon, receiver: &Polygon, blockers: &[&Polygon]) -> Vec<Option<Polygon>> {
+fn cut_to_slab(source: &Polygon, receiver: &Polygon, blockers: &[&Polygon]) -> Vec<Option<Polygon>> {
     let planes = [(receiver.centroid(), receiver.normal()), (source.centroid(), source.normal())];
     let (mut cur, mut next) = (Vec::new(), Vec::new());
     blockers
@@ -108,7 +157,7 @@ pub(super) fn source_rule(tol: f64) -> Vec<([f64; 3], f64)> {
 /// meeting the shaft (convex hull) of the triangle and the receiver. Where none does, every
 /// segment from the triangle to the receiver is free and the shadowed F is 0 there, so the
 /// adaptive rule spends no evaluation on such pieces; where some do, only they are projected.
-pub(super) struct ShadowTest<'a> {
+struct ShadowTest<'a> {
     receiver: &'a Polygon,
     /// blocker triangles and their normals, blocker by blocker
     triangles: Vec<([Vec3; 3], Vec3)>,
@@ -193,7 +242,7 @@ pub const MAX_SOURCE_EVALS: usize = 60_000;
 /// G = A_i F), the depth limit or the evaluation budget is reached. The visible-region F is continuous but has kinks along
 /// shadow lines: a global criterion spends the refinement along those lines only as far
 /// as the total error needs it (a local criterion would refine them without end).
-pub(super) fn adaptive_over_source(
+fn adaptive_over_source(
     start: &[[Vec3; 3]],
     blockers: &[&Polygon],
     f: &dyn Fn(Vec3, &[&Polygon]) -> f64,

@@ -23,13 +23,9 @@ use crate::quadrature::AreaRule;
 use crate::sampling::PolygonSampler;
 use crate::unobstructed::analytic;
 use crate::unobstructed::method::{self, Method, RuleCache};
-use crate::visibility::shadow::{
-    hides_whole, point_free_and_shadowed, point_shadowed_view_factor, point_visible_view_factor,
-};
+use crate::visibility::shadow::{hides_whole, point_visible_view_factor};
 use crate::visibility::{Occluders, Visibility};
-use clipping::{adaptive_over_source, clearance, cut_to_slab, ShadowTest};
-use kinks::split_at_kinks;
-use rules::{area_source_points, source_points};
+use rules::area_source_points;
 use sampled::{
     cut_at_blocker_planes, kernel, mean_and_error, montecarlo, pair_order, quadrature, rqmc_estimates, stratum_samples,
     RQMC_REPS,
@@ -158,45 +154,7 @@ pub fn pair_with(ctx: &Context, i: usize, j: usize, m: &Estimator, known: Known)
             let f = |x: Vec3| adaptive_point(x, a.normal(), b, &|y| visible(x, y), &o);
             Estimate::exact(over_source(sa, b, &blockers, o.source, f))
         }
-        Estimator::Clipping(o) => {
-            match o.source {
-                None => {
-                    // G = G_free - (integral of the shadowed part): the exact kernel handles
-                    // touching pairs, the adaptive rule refines along shadows only.
-                    // Relative target: blocked F <= unobstructed F, so an error of tol * G_free
-                    // is also within tol absolute, and small (distant) pairs cost little.
-                    let free = exact()?;
-                    if free <= 0.0 {
-                        return Ok(Estimate::exact(0.0));
-                    }
-                    // G is symmetric: integrate over the side the blockers keep farther from
-                    // (a blocker close above the source makes the shadowed F peak beneath it)
-                    let (src, rec, src_part, rec_part) =
-                        if clearance(a, &blockers) < clearance(b, &blockers) { (b, a, sb, sa) } else { (a, b, sa, sb) };
-                    let shadowed = |x: Vec3, bl: &[&Polygon]| point_shadowed_view_factor(x, src.normal(), rec, bl);
-                    let start = split_at_kinks(src_part, rec, &blockers);
-                    let test = ShadowTest::new(rec_part, &blockers);
-                    let cut = cut_to_slab(src, rec, &blockers);
-                    let casters: Vec<&Polygon> =
-                        blockers.iter().zip(&cut).map(|(b, c)| c.as_ref().unwrap_or(b)).collect();
-                    let hidden = adaptive_over_source(&start, &blockers, &shadowed, &casters, &test, o.tol * free, &o);
-                    Estimate::exact((free - hidden).clamp(0.0, free))
-                }
-                Some(k) => {
-                    // Ratio estimator: the exact unobstructed G times the rule's visible
-                    // fraction of the point F. Exact for pairs fully hidden or not hidden at
-                    // all; a touching pair's steep kernel cancels in the ratio.
-                    let free = exact()?;
-                    let (mut vis, mut all) = (0.0, 0.0);
-                    for (x, w) in source_points(sa, k) {
-                        let (f_free, f_hidden) = point_free_and_shadowed(x, a.normal(), b, &blockers);
-                        vis += w * (f_free - f_hidden);
-                        all += w * f_free;
-                    }
-                    Estimate::exact(if all > 0.0 { (free * vis / all).clamp(0.0, free) } else { free })
-                }
-            }
-        }
+        Estimator::Clipping(o) => clipping::pair(a, b, sa, sb, &blockers, exact()?, &o),
     })
 }
 
