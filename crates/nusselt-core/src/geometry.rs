@@ -467,7 +467,11 @@ fn orient(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> f64 {
     (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
 }
 
-fn segments_cross(p1: [f64; 2], p2: [f64; 2], q1: [f64; 2], q2: [f64; 2], eps: f64) -> bool {
+/// `eps`: the orientation (twice a triangle's area) below which three points are collinear;
+/// `slack`: how far beyond a segment's bounding box a collinear point still touches it (a
+/// length relative to the polygon: an absolute 1e-12 made a U-shaped outline of size 1e-12
+/// touch itself across its gap).
+fn segments_cross(p1: [f64; 2], p2: [f64; 2], q1: [f64; 2], q2: [f64; 2], eps: f64, slack: f64) -> bool {
     let d1 = orient(q1, q2, p1);
     let d2 = orient(q1, q2, p2);
     let d3 = orient(p1, p2, q1);
@@ -478,10 +482,10 @@ fn segments_cross(p1: [f64; 2], p2: [f64; 2], q1: [f64; 2], q2: [f64; 2], eps: f
     // Touching or overlapping (collinear) non-adjacent edges also make the outline invalid.
     let on = |a: [f64; 2], b: [f64; 2], p: [f64; 2], d: f64| {
         d.abs() <= eps
-            && p[0] >= a[0].min(b[0]) - 1e-12
-            && p[0] <= a[0].max(b[0]) + 1e-12
-            && p[1] >= a[1].min(b[1]) - 1e-12
-            && p[1] <= a[1].max(b[1]) + 1e-12
+            && p[0] >= a[0].min(b[0]) - slack
+            && p[0] <= a[0].max(b[0]) + slack
+            && p[1] >= a[1].min(b[1]) - slack
+            && p[1] <= a[1].max(b[1]) + slack
     };
     on(q1, q2, p1, d1) || on(q1, q2, p2, d2) || on(p1, p2, q1, d3) || on(p1, p2, q2, d4)
 }
@@ -491,13 +495,13 @@ fn self_intersection(v: &[Vec3], n: Vec3) -> Option<(usize, usize)> {
     let p = project_2d(v, n);
     let m = p.len();
     let scale = bounding_diameter(v);
-    let eps = 1e-12 * scale * scale;
+    let (eps, slack) = (1e-12 * scale * scale, 1e-12 * scale);
     for i in 0..m {
         for j in i + 2..m {
             if i == 0 && j == m - 1 {
                 continue; // adjacent through the closing edge
             }
-            if segments_cross(p[i], p[(i + 1) % m], p[j], p[(j + 1) % m], eps) {
+            if segments_cross(p[i], p[(i + 1) % m], p[j], p[(j + 1) % m], eps, slack) {
                 return Some((i, j));
             }
         }
@@ -795,6 +799,20 @@ pub(crate) mod tests {
         let (c3, s3) = turn_about(n)(v[0], v[1], v[2]);
         let (c2, s2) = turn_2d(p[0], p[1], p[2]);
         assert!((c3 - c2).abs() < 1e-13 * s3 && (s3 - s2).abs() < 1e-13 * s3);
+    }
+
+    /// A U whose arms end on one line (edges (3,2)-(2,2) and (1,2)-(0,2), a gap of a third of
+    /// its size between them) is simple at every scale; and touching across the gap is seen.
+    #[test]
+    fn self_touching_is_relative_to_the_outline() {
+        let u = [[0.0, 0.0], [3.0, 0.0], [3.0, 2.0], [2.0, 2.0], [2.0, 1.0], [1.0, 1.0], [1.0, 2.0], [0.0, 2.0]];
+        for scale in [1e-14, 1e-13, 1.0, 1e13] {
+            let v: Vec<Vec3> = u.iter().map(|[x, y]| Vec3::new(x * scale, y * scale, 0.0)).collect();
+            assert!(Polygon::new(v).is_ok(), "scale {scale}");
+        }
+        let closed = [[0.0, 0.0], [3.0, 0.0], [3.0, 2.0], [1.0, 2.0], [1.0, 1.0], [2.0, 1.0], [2.0, 2.0], [0.0, 2.0]];
+        let v: Vec<Vec3> = closed.iter().map(|[x, y]| Vec3::new(x * 1e-13, y * 1e-13, 0.0)).collect();
+        assert!(matches!(Polygon::new(v), Err(GeometryError::SelfIntersecting(..))));
     }
 
     #[test]
