@@ -140,6 +140,17 @@ def _free(polys):
     return np.array([[nusselt.view_factor(polys[i], polys[j]) if i != j else 0.0 for j in range(n)] for i in range(n)])
 
 
+def _assert_moved_within(polys, tol=None):
+    """Scaling by 1e-6 and moving by 7e-6 changes no F by more than the two results' errors
+    (`tol` x F_free each; `tol` None: auto's default obstructed_tol)."""
+    kw = {} if tol is None else {"obstructed_tol": tol}
+    s = 1e-6
+    base = nusselt.form_factors(nusselt.Scene.from_polygons(polys), **kw).matrix.toarray()
+    moved = nusselt.form_factors(nusselt.Scene.from_polygons([s * p + 7 * s for p in polys]), **kw).matrix.toarray()
+    bound = 2 * (tol or DEFAULT_OBSTRUCTED_TOL) * _free(polys) + 1e-12
+    assert (np.abs(moved - base) <= bound).all(), np.max(np.abs(moved - base) / bound)
+
+
 def _with_and_without(polys, obstacle):
     """F of the scene of `polys` and of the same scene with `obstacle` added (obstruction only),
     both at the defaults."""
@@ -230,12 +241,7 @@ def test_replay_thin_wedge_scaled():
     # the other side misses the shadow, which lies within 1e-8 of the common edge)
     f0, f2 = (np.array(p) for p in WEDGE_FACES)
     f1 = np.array([[0.0, 0.0, 0.0], [0.0, -1.0, 1.0], [1.0, 0.0, 0.0]])
-    polys = [f0, f1, f2]
-    base = nusselt.form_factors(nusselt.Scene.from_polygons(polys)).matrix.toarray()
-    s = 1e-6
-    scaled = nusselt.form_factors(nusselt.Scene.from_polygons([s * p + 7 * s for p in polys])).matrix.toarray()
-    bound = 2 * DEFAULT_OBSTRUCTED_TOL * _free(polys) + 1e-12
-    assert (np.abs(scaled - base) <= bound).all(), np.max(np.abs(scaled - base) / bound)
+    _assert_moved_within([f0, f1, f2])
 
 
 def test_replay_obstacle_touching_the_source_at_a_vertex():
@@ -292,9 +298,4 @@ def test_replay_loose_tol_moved_scene():
             [[-0.125, 0.5, 0.3125], [-0.4375, 0.5, 0.5625], [0.0, 0.0, 0.0]],
         )
     ]
-    tol, s = 1e-3, 1e-6
-    base = nusselt.form_factors(nusselt.Scene.from_polygons(polys), obstructed_tol=tol).matrix.toarray()
-    moved = nusselt.Scene.from_polygons([s * p + 7 * s for p in polys])
-    scaled = nusselt.form_factors(moved, obstructed_tol=tol).matrix.toarray()
-    bound = 2 * tol * _free(polys) + 1e-12
-    assert (np.abs(scaled - base) <= bound).all(), np.max(np.abs(scaled - base) / bound)
+    _assert_moved_within(polys, tol=1e-3)

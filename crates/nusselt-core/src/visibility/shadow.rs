@@ -30,6 +30,12 @@ const NEAR_P: f64 = 1e-9;
 /// (a point F of 0.029 for 5e-16).
 const NEAR_P_ABS: f64 = 2.2e-13;
 
+/// ... but never less than this many times p's coordinates (16 ulp; and never more than half
+/// p's height): where h_p is below that, a cut at 1e-9 h_p rounds to p's own plane and the
+/// projection's depths to noise (a blocker through two faces' common edge stopped blocking
+/// when the scene was moved by 7 of its sizes).
+const NEAR_P_FLOOR: f64 = 16.0 * f64::EPSILON;
+
 /// The part of `receiver` visible from the point `p`, as contours on the receiver's plane.
 ///
 /// The receiver is first clipped to the front half-space n . (x - p) >= 0 of the point's
@@ -157,13 +163,8 @@ fn cast_into(p: Vec3, n: Vec3, receiver: &Polygon, blockers: &[&Polygon], out: &
     let centre = frame.to3d([0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1])]);
     // Half-spaces (point, inward normal): the receiver side of the receiver plane, the front
     // of the point's surface element, below p; then the pyramid p -> window.
-    // ... but never within rounding of p's coordinates (where h_p is that small, a cut at
-    // 1e-9 h_p rounds to p's own plane and the projection's depths to noise: a blocker through
-    // two faces' common edge stopped blocking when the scene was moved by 7 of its sizes)
-    let near = (NEAR_P * h_p)
-        .min(NEAR_P_ABS * (p.abs().max_element() + scale))
-        .max(16.0 * f64::EPSILON * p.abs().max_element())
-        .min(0.5 * h_p);
+    let p_max = p.abs().max_element();
+    let near = (NEAR_P * h_p).min(NEAR_P_ABS * (p_max + scale)).max(NEAR_P_FLOOR * p_max).min(0.5 * h_p);
     let mut clip_planes = [(c, nr), (p, n), (p - near * nr, -nr), (p, n), (p, n), (p, n), (p, n)];
     // the pyramid's planes, set when a blocker first needs them (most points need none)
     let mut pyramid = false;
