@@ -263,14 +263,13 @@ def test_replay_obstacle_touching_the_source_at_a_vertex():
     _assert_obstacle_only_takes_away(polys, obstacle)
 
 
-@pytest.mark.xfail(strict=True, reason="open: clipping's integral with two coplanar blockers exceeds one's")
 def test_replay_second_coplanar_blocker_raises_f():
     # found by the long run (seed 23, 10 000 cases): faces 0 and 2 and the obstacle lie in the
-    # plane x = 0 (face 2 and the obstacle facing opposite ways, overlapping); F[3, 1] is
-    # 1.4055e-6 without the obstacle and 1.4072e-6 with it (83 x the target 2e-11), and the
-    # pair alone converges so (clipping at tol 1e-10: 1.08464e-5 behind face 2, 1.08482e-5
-    # behind face 2 and the obstacle) although the point F from 3 000 random source points is
-    # never larger with the obstacle (by 1.2e-18 at most): the integration, not the shadows
+    # plane x = 0 (face 2 and the obstacle facing opposite ways, overlapping); F[3, 1] was
+    # 1.4055e-6 without the obstacle and 1.4072e-6 with it (83 x the target 2e-11; both
+    # 1.40758e-6 now). The free scene's value was the wrong one: face 1 cuts face 3 to a small
+    # triangle, and the kink split used the whole face 3, missing the events where the gap
+    # between faces 0 and 2 casts onto the cut's vertices
     polys = [
         np.array(p)
         for p in (

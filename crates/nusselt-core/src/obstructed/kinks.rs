@@ -26,6 +26,10 @@ pub(super) const MAX_KINK_PIECES: usize = 128;
 ///   within a strip so thin that the error estimate cannot see it (before these cuts, 300
 ///   room pairs of `obstructed_schemes` at tol 1e-3 had errors up to 1.6e-3 of the
 ///   unobstructed F, at 1e-6 up to 4.7e-6; with them 1.6e-5 and 7e-8).
+///
+/// `receiver` is the part of the receiver in front of the source's plane: no source point
+/// sees more of it, and where that plane cuts the receiver, the cut's vertices and edge have
+/// events of their own.
 pub(super) fn split_at_kinks(a: &Polygon, receiver: &Polygon, blockers: &[&Polygon]) -> Vec<[Vec3; 3]> {
     let kinks = kink_planes(a, receiver, blockers);
     let v = a.vertices();

@@ -148,18 +148,18 @@ pub fn pair_with(ctx: &Context, i: usize, j: usize, m: &Estimator, known: Known)
         Estimator::Subdivision(o) => {
             let pieces = subdivide_at_blockers(b, &blockers, o.divisions);
             let f = |x: Vec3| uniform_point(x, a.normal(), &pieces, &|y| visible(x, y));
-            Estimate::exact(over_source(sa, b, &blockers, o.source, f))
+            Estimate::exact(over_source(sa, sb, &blockers, o.source, f))
         }
         Estimator::Adaptive(o) => {
             let f = |x: Vec3| adaptive_point(x, a.normal(), b, &|y| visible(x, y), &o);
-            Estimate::exact(over_source(sa, b, &blockers, o.source, f))
+            Estimate::exact(over_source(sa, sb, &blockers, o.source, f))
         }
         Estimator::Clipping(o) => clipping::pair(a, b, sa, sb, &blockers, exact()?, &o),
     })
 }
 
-/// Sum of w f(x) over the source points (x, w) of `sa` for the receiver `b` (see
-/// [`area_source_points`]): the dA -> A_j methods' outer integral.
+/// Sum of w f(x) over the source points (x, w) of `sa` for the receiver's part `b` in front
+/// of it (see [`area_source_points`]): the dA -> A_j methods' outer integral.
 fn over_source(
     sa: &Polygon,
     b: &Polygon,
