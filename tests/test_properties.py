@@ -330,3 +330,14 @@ def test_replay_row_of_nearly_coincident_faces():
     polys[0] = np.array([[1e-8, 3.7044103601709316e-230, -3.3149001461721412e-152], [0.0, 0.0, 1.0], [0.0, 1.0, 0.0]])
     F = nusselt.form_factors(nusselt.Scene.from_polygons(polys)).matrix.toarray()
     assert F.sum(axis=1).max() <= 1.0 + 1e-9
+
+
+@pytest.mark.xfail(strict=True, reason="open: ray visibility misses face 3, which hides face 2 from face 4 whole")
+@pytest.mark.parametrize("method", ["montecarlo", "quadrature"])
+def test_replay_rays_past_a_shared_edge(method):
+    # every segment from face 4 to face 2 crosses z = 0 at 0 < x < 0.0039 inside face 3 (a
+    # direct check with 1e5 random segments: all of them), so F = 0, as clipping gives; the ray
+    # methods give 0.00162 (montecarlo) and 0.00183 (quadrature) of the free 0.00192. The
+    # crossings lie within 0.0039 of the edge that faces 2 and 3 share
+    p = [np.array(v) for v in ORIGIN_FACES]
+    assert nusselt.view_factor(p[4], p[2], obstacles=[p[3]], method=method) <= 1e-9
