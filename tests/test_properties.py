@@ -332,12 +332,14 @@ def test_replay_row_of_nearly_coincident_faces():
     assert F.sum(axis=1).max() <= 1.0 + 1e-9
 
 
-@pytest.mark.xfail(strict=True, reason="open: ray visibility misses face 3, which hides face 2 from face 4 whole")
+@pytest.mark.xfail(strict=True, reason="open: sampled methods miss a touching pair's singularity when hidden")
 @pytest.mark.parametrize("method", ["montecarlo", "quadrature"])
-def test_replay_rays_past_a_shared_edge(method):
-    # every segment from face 4 to face 2 crosses z = 0 at 0 < x < 0.0039 inside face 3 (a
-    # direct check with 1e5 random segments: all of them), so F = 0, as clipping gives; the ray
-    # methods give 0.00162 (montecarlo) and 0.00183 (quadrature) of the free 0.00192. The
-    # crossings lie within 0.0039 of the edge that faces 2 and 3 share
+def test_replay_hidden_touching_pair_sampled(method):
+    # every segment from face 4 to face 2 crosses z = 0 inside face 3 (a direct check with 1e5
+    # random segments: all of them), so F = 0, as clipping gives. The two faces share the vertex
+    # (0, 1, 0), where the kernel is singular, and the control variate samples the blocked part,
+    # which here is all of it: montecarlo gives 0.00162 +- 0.00020 (8 standard errors off; 0.0
+    # at 1e6 samples), quadrature 0.00183 at every order (the free F is 0.00192)
     p = [np.array(v) for v in ORIGIN_FACES]
-    assert nusselt.view_factor(p[4], p[2], obstacles=[p[3]], method=method) <= 1e-9
+    f, std = nusselt.view_factor(p[4], p[2], obstacles=[p[3]], method=method, return_std=True)
+    assert f <= 4 * std + 1e-9
