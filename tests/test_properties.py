@@ -316,7 +316,11 @@ ORIGIN_FACES = (
 def test_replay_obstacle_raises_a_hidden_pair():
     # F[4, 2] is 0 in the free scene (face 3 hides face 2 from face 4: every segment crosses
     # z = 0 at 0 < x < 0.0039 inside it) at every obstructed_tol, and 2.0466e-7 with the
-    # obstacle at every obstructed_tol (1e-6, 1e-8, 1e-10): a decision, not the integration
+    # obstacle at every obstructed_tol (1e-6, 1e-8, 1e-10). The obstacle comes within 0.0052
+    # of face 2's size of its plane, so the integral runs over face 4 instead; there G = free -
+    # hidden needs the hidden part (all of the point F, singular at the vertex (0, 1, 0) the
+    # two share) to 1e-4, which the evaluation budget does not reach. Face 3 alone hides the
+    # pair, but hides_whole is conservative where the segments touch its edge
     polys = [np.array(p) for p in ORIGIN_FACES]
     obstacle = np.array([[0.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.00390625, 1.0, 0.0]])
     _assert_obstacle_only_takes_away(polys, obstacle)
