@@ -312,10 +312,30 @@ ORIGIN_FACES = (
 )
 
 
+def test_origin_faces_4_and_2_face_each_other_behind_face_3():
+    # the independent reference of the two replays below (F[4, 2] = 0): every segment between
+    # random points of faces 4 and 2 leaves the front of one, reaches the front of the other and
+    # crosses the plane z = 0 inside face 3 (x, y >= 0, x + y <= 1)
+    rng = np.random.default_rng(5)
+    a, b = (np.array(ORIGIN_FACES[k]) for k in (4, 2))
+
+    def points(t, n=20_000):
+        u = rng.random((n, 2))
+        u[u.sum(axis=1) > 1] = 1 - u[u.sum(axis=1) > 1]
+        return t[0] + u[:, :1] * (t[1] - t[0]) + u[:, 1:] * (t[2] - t[0])
+
+    p, q = points(a), points(b)
+    d = q - p
+    na, nb = (np.cross(t[1] - t[0], t[2] - t[0]) for t in (a, b))
+    assert ((d @ na) > 0).all() and ((d @ nb) < 0).all()
+    x = p + (-p[:, 2] / d[:, 2])[:, None] * d
+    assert ((x[:, 0] > 0) & (x[:, 1] >= 0) & (x[:, 0] + x[:, 1] <= 1)).all()
+
+
 @pytest.mark.xfail(strict=True, reason="open: an obstacle raises F[4, 2] from 0 to 2.05e-7")
 def test_replay_obstacle_raises_a_hidden_pair():
-    # F[4, 2] is 0 in the free scene (face 3 hides face 2 from face 4: every segment crosses
-    # z = 0 at 0 < x < 0.0039 inside it) at every obstructed_tol, and 2.0466e-7 with the
+    # F[4, 2] is 0 in the free scene (face 3 hides face 2 from face 4, see the test above) at
+    # every obstructed_tol, and 2.0466e-7 with the
     # obstacle at every obstructed_tol (1e-6, 1e-8, 1e-10). The obstacle comes within 0.0052
     # of face 2's size of its plane, so the integral runs over face 4 instead; there G = free -
     # hidden needs the hidden part (all of the point F, singular at the vertex (0, 1, 0) the
@@ -341,11 +361,11 @@ def test_replay_row_of_nearly_coincident_faces():
 @pytest.mark.xfail(strict=True, reason="open: sampled methods miss a touching pair's singularity when hidden")
 @pytest.mark.parametrize("method", ["montecarlo", "quadrature"])
 def test_replay_hidden_touching_pair_sampled(method):
-    # every segment from face 4 to face 2 crosses z = 0 inside face 3 (a direct check with 1e5
-    # random segments: all of them), so F = 0, as clipping gives. The two faces share the vertex
-    # (0, 1, 0), where the kernel is singular, and the control variate samples the blocked part,
-    # which here is all of it: montecarlo gives 0.00162 +- 0.00020 (8 standard errors off; 0.0
-    # at 1e6 samples), quadrature 0.00183 at every order (the free F is 0.00192)
+    # face 3 hides face 2 from face 4 (see the test above), so F = 0, as clipping gives. The
+    # two faces share the vertex (0, 1, 0), where the kernel is singular, and the control
+    # variate samples the blocked part, which here is all of it: montecarlo gives 0.00162 +-
+    # 0.00020 (8 standard errors off; 0.0 at 1e6 samples), quadrature 0.00183 at every order
+    # (the free F is 0.00192)
     p = [np.array(v) for v in ORIGIN_FACES]
     f, std = nusselt.view_factor(p[4], p[2], obstacles=[p[3]], method=method, return_std=True)
     assert f <= 4 * std + 1e-9

@@ -33,11 +33,7 @@ pub(super) fn pair(
             let (src, rec, src_part, rec_part) =
                 if clearance(a, blockers) < clearance(b, blockers) { (b, a, sb, sa) } else { (a, b, sa, sb) };
             let shadowed = |x: Vec3, bl: &[&Polygon]| point_shadowed_view_factor(x, src.normal(), rec, bl);
-            // the kinks of the receiver's part in front of the source: a point sees no more of
-            // it, and where the source's plane cuts the receiver, that part's new vertices
-            // have events of their own (a gap between two blockers crossing one: the shadowed
-            // F bends within 5 % of a start piece, which its samples missed, 94 x tol at the
-            // default 1e-6, `kinks_of_the_receiver_part_in_front`)
+            // the receiver's part in front of the source has kinks of its own (see split_at_kinks)
             let start = split_at_kinks(src_part, rec_part, blockers);
             let test = ShadowTest::new(rec_part, blockers);
             let cut = cut_to_slab(src, rec, blockers);
@@ -439,6 +435,11 @@ mod tests {
         pair(&ctx, i, j, &Estimator::Clipping(*o)).unwrap().value
     }
 
+    /// Triangles from literal vertex lists.
+    fn triangles(raw: &[[[f64; 3]; 3]]) -> Vec<Polygon> {
+        raw.iter().map(|p| Polygon::new(p.iter().map(|&v| Vec3::from_array(v)).collect()).unwrap()).collect()
+    }
+
     /// `auto`'s default `tol`: the unobstructed G of a pair nobody computed for it.
     fn auto_tol() -> f64 {
         method::Options::default().tol
@@ -600,8 +601,7 @@ mod tests {
             [[0., 0.5, -0.5], [-0.6875, 0.4375, 0.], [1., -1., 0.375]],
             [[0., 0., 1.], [0., 1., -1.], [0., 0., 0.]],
         ];
-        let polys: Vec<Polygon> =
-            raw.iter().map(|p| Polygon::new(p.iter().map(|&v| Vec3::from_array(v)).collect()).unwrap()).collect();
+        let polys = triangles(&raw);
         let free = method::area_factor(&polys[0], &polys[1], Method::Analytic, &Default::default(), None).unwrap();
         let g = |tol: f64| {
             clipping(&polys, 0, 1, &ClippingOptions { tol, max_evals: 2_000_000, ..Default::default() }, auto_tol())
@@ -628,8 +628,7 @@ mod tests {
             [[0.0, 1.0, 0.0], [0.0, 0.5, 0.0], [0.0, 0.0625, 1.0]],
             [[1.0, 0.0, -0.5], [0.0, 0.0, -1.0], [-1.0, 0.0, -1.0]],
         ];
-        let polys: Vec<Polygon> =
-            raw.iter().map(|p| Polygon::new(p.iter().map(|&v| Vec3::from_array(v)).collect()).unwrap()).collect();
+        let polys = triangles(&raw);
         let free = method::area_factor(&polys[3], &polys[1], Method::Analytic, &Default::default(), None).unwrap();
         let g = |tol: f64| {
             clipping(&polys, 3, 1, &ClippingOptions { tol, max_evals: 2_000_000, ..Default::default() }, auto_tol())
@@ -650,8 +649,7 @@ mod tests {
     #[test]
     fn a_blocker_that_hides_nothing_changes_nothing() {
         let raw: [[[f64; 3]; 3]; 6] = include!("../../../../tests/data/hidden_obstacle.txt");
-        let all: Vec<Polygon> =
-            raw.iter().map(|p| Polygon::new(p.iter().map(|&v| Vec3::from_array(v)).collect()).unwrap()).collect();
+        let all = triangles(&raw);
         let free = method::area_factor(&all[2], &all[4], Method::Analytic, &Default::default(), None).unwrap();
         let g = |polys: &[Polygon], i: usize, j: usize, tol: f64| {
             clipping(polys, i, j, &ClippingOptions { tol, max_evals: 2_000_000, ..Default::default() }, auto_tol())

@@ -111,11 +111,11 @@ fn kink_planes(a: &Polygon, receiver: &Polygon, blockers: &[&Polygon]) -> Kinks 
     // Where the line from receiver vertex r through blocker vertex q meets the source's plane
     // beyond q (an event's end seen from the source): Err(-1) if q is behind that plane,
     // Err(1) if the line never gets there. One table per blocker, rows = receiver vertices.
-    // A line within `tol` of parallel to the plane counts as parallel (Err(1)): rounding put
-    // such a trace 1e15 sizes away or nowhere depending on where the scene lay, and so cut
-    // the source or not. Distances within `tol` of a plane count as on it (0), so that a vertex shared with the
+    // Distances within `tol` of a plane count as on it (0), so that a vertex shared with the
     // source is classed alike wherever the scene lies (the rounding of its distance, 0 or
-    // +-1e-16, depends on the coordinates' magnitude).
+    // +-1e-16, depends on the coordinates' magnitude); likewise a line within `tol` of parallel
+    // to the plane counts as parallel (Err(1)): rounding put such a trace 1e15 sizes away or
+    // nowhere depending on where the scene lay, and so cut the source or not.
     let snap = |d: f64| if d.abs() <= tol { 0.0 } else { d };
     let dist = |x: Vec3| snap(na.dot(x - ca));
     let trace = |r: Vec3, q: Vec3| -> std::result::Result<Vec3, i8> {
@@ -123,8 +123,6 @@ fn kink_planes(a: &Polygon, receiver: &Polygon, blockers: &[&Polygon]) -> Kinks 
         if dq <= 0.0 {
             Err(-1)
         } else if dq >= dr - tol {
-            // parallel to the plane within `tol` counts as parallel: the trace's rounding to
-            // a point 1e15 sizes away or to none depended on where the scene lay
             Err(1)
         } else {
             Ok(r + (q - r) * (dr / (dr - dq)))
