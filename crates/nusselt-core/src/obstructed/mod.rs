@@ -8,7 +8,9 @@
 //! *blocked* part by sampling and subtract it from the exact unobstructed value:
 //!   A_i F_ij = G_exact - integral K (1 - V),
 //! which is exact for unblocked pairs and removes the 1/r^2 singularity of touching pairs
-//! from the sampled integrand (the blocked region lies away from shared edges).
+//! from the sampled integrand where the blocked region lies away from the shared edge or
+//! vertex. Where the largest kernel sample is blocked (the shared part is hidden), the same
+//! samples give the visible part directly instead (`sampled::Parts::with_free`).
 
 mod clipping;
 mod kinks;
@@ -116,8 +118,12 @@ pub fn pair_with(ctx: &Context, i: usize, j: usize, m: &Estimator, known: Known)
     if cand.is_empty() {
         // Nothing can block: every method reduces to the unobstructed integral.
         return Ok(match m {
-            Estimator::MonteCarlo(o) if !o.control_variate => montecarlo(a, b, None, &[], o, i, j),
-            Estimator::Quadrature(o) if !o.control_variate => Estimate::exact(quadrature(a, b, None, &[], o.order)),
+            Estimator::MonteCarlo(o) if !o.control_variate => {
+                mean_and_error(&montecarlo(a, b, None, &[], o, i, j).0.iter().map(|e| e[0]).collect::<Vec<_>>())
+            }
+            Estimator::Quadrature(o) if !o.control_variate => {
+                Estimate::exact(quadrature(a, b, None, &[], o.order).visible)
+            }
             _ => Estimate::exact(exact()?),
         });
     }
@@ -131,19 +137,15 @@ pub fn pair_with(ctx: &Context, i: usize, j: usize, m: &Estimator, known: Known)
             // the order of this pair from its unobstructed F and the absolute target `tol`
             let free = exact()?;
             let n = pair_order(free, a, b, &o);
-            if o.control_variate {
-                Estimate::exact(free - quadrature(a, b, Some(&|x, y| !visible(x, y)), &blockers, n))
-            } else {
-                Estimate::exact(quadrature(a, b, Some(&visible), &blockers, n))
-            }
+            let parts = quadrature(a, b, Some(&visible), &blockers, n);
+            Estimate::exact(if o.control_variate { parts.with_free(free) } else { parts.visible })
         }
         Estimator::MonteCarlo(o) => {
-            if o.control_variate {
-                let e = montecarlo(a, b, Some(&|x, y| !visible(x, y)), &blockers, &o, i, j);
-                Estimate { value: exact()? - e.value, std_err: e.std_err }
-            } else {
-                montecarlo(a, b, Some(&visible), &blockers, &o, i, j)
-            }
+            let (est, peak_blocked) = montecarlo(a, b, Some(&visible), &blockers, &o, i, j);
+            // the control variate as for quadrature (see sampled::Parts::with_free)
+            let free = if o.control_variate && !peak_blocked { Some(exact()?) } else { None };
+            let per: Vec<f64> = est.iter().map(|e| free.map_or(e[0], |g| g - e[1])).collect();
+            mean_and_error(&per)
         }
         Estimator::Subdivision(o) => {
             let pieces = subdivide_at_blockers(b, &blockers, o.divisions);
@@ -252,15 +254,16 @@ pub fn point(ctx: &Context, p: Vec3, n: Vec3, j: usize, m: &Estimator) -> Result
                 .map(|q| (PolygonSampler::new(q), q.area(), stratum_samples(per, q.area() / b.area())))
                 .collect();
             let sizes: Vec<(f64, usize)> = strata.iter().map(|s| (s.1, s.2)).collect();
-            let est = rqmc_estimates(o.seed, [j as u64, u64::MAX], &sizes, |s, u| {
+            let est = rqmc_estimates::<1>(o.seed, [j as u64, u64::MAX], &sizes, |s, u| {
                 let y = strata[s].0.sample([u[0], u[1]]);
                 let blocked = !visible(y);
                 let w = kernel(p, n, y, b.normal());
                 // control variate: the unblocked integral is exact, sample the blocked part
                 // every sample's visibility is tested (it pays by its ray)
-                (if blocked == o.control_variate { w } else { 0.0 }, true)
+                ([if blocked == o.control_variate { w } else { 0.0 }], true)
             });
-            let est: Vec<f64> = est.iter().map(|&mean| if o.control_variate { lambert - mean } else { mean }).collect();
+            let est: Vec<f64> =
+                est.iter().map(|&[mean]| if o.control_variate { lambert - mean } else { mean }).collect();
             mean_and_error(&est)
         }
         Estimator::Subdivision(o) => {

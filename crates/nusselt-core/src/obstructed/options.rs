@@ -17,7 +17,8 @@ method_options! {
         /// the order rule. A single area integral keeps the visibility step sharp, so it needs a
         /// composite rule; the pair form's second integral smooths the step.
         panels: usize,
-        /// Sample only the blocked part (see module docs).
+        /// Subtract the blocked part from the exact unobstructed G, or take the visible part
+        /// where the largest kernel sample is blocked (see module docs).
         control_variate: bool,
     }
 }
@@ -28,7 +29,7 @@ method_options! {
         /// Point pairs per form factor.
         samples: usize,
         seed: u64,
-        /// Sample only the blocked part (see module docs).
+        /// As `quadrature`'s (see module docs).
         control_variate: bool,
     }
 }

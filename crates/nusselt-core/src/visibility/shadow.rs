@@ -724,18 +724,26 @@ pub fn point_shadowed_view_factor(p: Vec3, n: Vec3, receiver: &Polygon, blockers
     with_cast(p, n, receiver, blockers, |cast| shadowed(p, n, cast)).unwrap_or(0.0)
 }
 
-/// Lambert's F from p to the receiver without blockers (the part in front of p) and
-/// [`point_shadowed_view_factor`], from one projection of the blockers. NaN for non-finite
-/// p or n.
-pub fn point_free_and_shadowed(p: Vec3, n: Vec3, receiver: &Polygon, blockers: &[&Polygon]) -> (f64, f64) {
+/// [`point_shadowed_view_factor`] and, if `with_free`, Lambert's F from p to the receiver
+/// without blockers (the part in front of p), from one projection of the blockers (None
+/// without: a contour sum per point saved). NaN for non-finite p or n.
+pub fn point_shadowed_and_free(
+    p: Vec3,
+    n: Vec3,
+    receiver: &Polygon,
+    blockers: &[&Polygon],
+    with_free: bool,
+) -> (f64, Option<f64>) {
     if !p.is_finite() || !n.is_finite() || n == Vec3::ZERO {
-        return (f64::NAN, f64::NAN);
+        return (f64::NAN, Some(f64::NAN));
     }
     let n = n.normalize();
     with_cast(p, n, receiver, blockers, |cast| {
-        (crate::unobstructed::analytic::point_contour(p, n, &cast.rec).max(0.0), shadowed(p, n, cast))
+        let hidden = shadowed(p, n, cast);
+        let free = with_free.then(|| crate::unobstructed::analytic::point_contour(p, n, &cast.rec).max(0.0));
+        (hidden, free)
     })
-    .unwrap_or((0.0, 0.0))
+    .unwrap_or((0.0, with_free.then_some(0.0)))
 }
 
 fn shadowed(p: Vec3, n: Vec3, cast: &Cast) -> f64 {
