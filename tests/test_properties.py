@@ -357,6 +357,25 @@ def test_replay_row_of_nearly_coincident_faces():
     assert F.sum(axis=1).max() <= 1.0 + 1e-9
 
 
+def test_replay_obstacle_near_a_corner_of_a_thin_pair():
+    # F[4, 3] rose from 0.0626708553 to 0.0626710251 (2.7e-6 of F_free) at every tol: the
+    # obstacle's vertex 1e-9 off face 3's corner sent the integral to face 4 (2^-8 thick, an
+    # edge in the obstacle's plane), where the evaluation budget ran out 29 x the goal away.
+    # A side that runs out is now integrated from the other as well, the better kept
+    polys = [
+        np.array(p)
+        for p in (
+            [[0.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, -1.0, 0.0]],
+            [[0.0, 0.0, 0.0], [0.0, 0.0, -1.0], [0.0, 1.0, 0.0]],
+            [[0.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, -1.0]],
+            [[0.0, 0.0, 0.0], [-0.5, 0.0, 1.0], [0.0, -1.0, 0.0]],
+            [[0.00390625, 0.0, 0.5], [0.0, 1.0, 0.0], [0.0, 0.0, 0.0]],
+        )
+    ]
+    obstacle = np.array([[0.0, 0.0, 1.0], [1.0, 0.0, 0.0], [1e-09, 0.0, 0.0]])
+    _assert_obstacle_only_takes_away(polys, obstacle)
+
+
 @pytest.mark.parametrize("method", ["montecarlo", "quadrature"])
 def test_replay_hidden_touching_pair_sampled(method):
     # face 3 hides face 2 from face 4 (see the test above), so F = 0, as clipping gives. The
