@@ -329,10 +329,6 @@ mod tests {
         }
     }
 
-    fn tri(v: [[f64; 3]; 3]) -> Polygon {
-        Polygon::new(v.iter().map(|&p| Vec3::from_array(p)).collect()).unwrap()
-    }
-
     /// Two faces sharing the vertex (0, 1, 0), nearly coplanar, and a third face between them
     /// that hides the one from the other whole (so F = 0; clipping's test beside it checks
     /// every segment). The blocked part holds the kernel's rise at the shared vertex: both
@@ -340,9 +336,9 @@ mod tests {
     /// free F is 0.0019). Where the largest sample is blocked they take the visible part.
     #[test]
     fn a_hidden_touching_pair_is_sampled_by_its_visible_part() {
-        let a = tri([[0.00390625, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, -1.0]]);
-        let b = tri([[0.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]);
-        let blocker = tri([[0.0, 0.0, 0.0], [0.0, 1.0, 0.0], [1.0, 0.0, 0.0]]);
+        let a = poly(&[[0.00390625, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, -1.0]]);
+        let b = poly(&[[0.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]);
+        let blocker = poly(&[[0.0, 0.0, 0.0], [0.0, 1.0, 0.0], [1.0, 0.0, 0.0]]);
         for (method, given) in [
             ("montecarlo", vec![]),
             ("montecarlo", vec![("samples", Value::Int(1 << 16))]),
@@ -356,36 +352,23 @@ mod tests {
         }
     }
 
-    /// A partition standing on the shared edge of two perpendicular plates hides the far part
-    /// of each from the other; the shared edge stays visible, so the control variate keeps the
-    /// blocked part (away from the edge) out of the exact G, and both methods meet the
-    /// exact visible-region value (clipping at 1e-10).
+    /// Polygon from literal vertices.
+    fn poly(v: &[[f64; 3]]) -> Polygon {
+        Polygon::new(v.iter().map(|&p| Vec3::from_array(p)).collect()).unwrap()
+    }
+
+    /// Two perpendicular plates sharing an edge and a plate parallel to one of them, half-way
+    /// across the other and clear of the shared edge, hiding the far part of each from the
+    /// other: the shared edge stays visible, so the control variate keeps the blocked part
+    /// out of the exact G, and both methods meet the exact visible-region value (clipping at
+    /// 1e-10).
     #[test]
     fn a_touching_pair_with_its_edge_in_view_keeps_the_control_variate() {
-        let a = Polygon::new(vec![
-            Vec3::new(0., 0., 0.),
-            Vec3::new(1., 0., 0.),
-            Vec3::new(1., 1., 0.),
-            Vec3::new(0., 1., 0.),
-        ])
-        .unwrap();
-        let b = Polygon::new(vec![
-            Vec3::new(0., 0., 0.),
-            Vec3::new(0., 1., 0.),
-            Vec3::new(0., 1., 1.),
-            Vec3::new(0., 0., 1.),
-        ])
-        .unwrap();
+        let a = poly(&[[0., 0., 0.], [1., 0., 0.], [1., 1., 0.], [0., 1., 0.]]);
+        let b = poly(&[[0., 0., 0.], [0., 1., 0.], [0., 1., 1.], [0., 0., 1.]]);
         assert!(a.normal().z > 0.0 && b.normal().x > 0.0);
-        // a plate parallel to b half-way across a, from height 0.2 up: hides the far part of
-        // a from the upper part of b, nothing near the shared edge
-        let blocker = Polygon::new(vec![
-            Vec3::new(0.5, 0., 0.2),
-            Vec3::new(0.5, 1., 0.2),
-            Vec3::new(0.5, 1., 2.),
-            Vec3::new(0.5, 0., 2.),
-        ])
-        .unwrap();
+        // at x = 0.5 from height 0.2 up: hides the far part of a from the upper part of b
+        let blocker = poly(&[[0.5, 0., 0.2], [0.5, 1., 0.2], [0.5, 1., 2.], [0.5, 0., 2.]]);
         let run = |method: &str, given: &[(&str, Value)]| {
             let given: Vec<(String, Value)> = given.iter().map(|(k, v)| (k.to_string(), v.clone())).collect();
             pair_view_factor(a.clone(), b.clone(), vec![blocker.clone()], &configure(method, &given).unwrap()).unwrap()
