@@ -376,6 +376,25 @@ def test_replay_obstacle_near_a_corner_of_a_thin_pair():
     _assert_obstacle_only_takes_away(polys, obstacle)
 
 
+def test_replay_blockers_close_to_both_faces_of_a_pair():
+    # the case above with face 4 1e-6 thick and face 0 shrunk: F[4, 3] rose from 0.0223270116
+    # to 0.0223272409 (3.6e-6 of F_free) at every tol. Face 1 lies 1e-6 under face 4 and
+    # hides a layer of it as wide, which the integral over face 4 missed whole; both sides
+    # are now integrated when blockers come that close to both
+    polys = [
+        np.array(p)
+        for p in (
+            [[0.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, 0.125, 0.0]],
+            [[0.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, -1.0, 0.0]],
+            [[0.0, 0.0, 0.0], [0.0, 0.0, -1.0], [0.0, 1.0, 0.0]],
+            [[0.0, 0.0, 0.0], [-0.5, 0.0, 1.0], [0.0, -1.0, 0.0]],
+            [[1e-06, 0.0, 0.5], [0.0, 1.0, 0.0], [0.0, 0.0, 0.0]],
+        )
+    ]
+    obstacle = np.array([[0.0, 0.0, 1.0], [1.0, 0.0, 0.0], [1e-09, 0.0, 0.0]])
+    _assert_obstacle_only_takes_away(polys, obstacle)
+
+
 @pytest.mark.parametrize("method", ["montecarlo", "quadrature"])
 def test_replay_hidden_touching_pair_sampled(method):
     # face 3 hides face 2 from face 4 (see the test above), so F = 0, as clipping gives. The
