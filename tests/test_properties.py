@@ -395,6 +395,28 @@ def test_replay_blockers_close_to_both_faces_of_a_pair():
     _assert_obstacle_only_takes_away(polys, obstacle)
 
 
+def test_replay_blocker_hinged_on_a_thin_face():
+    # F[4, 3] rose from 0.0770910212 to 0.0770913048 (3.7e-6 of F_free) with the obstacle.
+    # Face 0 is hinged on an edge of face 4 (1e-6 thick) and hides a layer of it as wide;
+    # counted as crossing face 4's plane it tied with face 3, so the pair's order chose the
+    # side, and the obstacle broke the tie towards face 4, whose samples miss the layer.
+    # A crossing blocker now counts as high as it rises above the plane
+    polys = [
+        np.array(p)
+        for p in (
+            [[0.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, -1.0, -1.0]],
+            [[0.0, 0.0, 0.0], [0.0, 0.0, -1.0], [0.0, 1.0, 0.0]],
+            [[0.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, -1.0]],
+            [[0.0, 0.0, 0.0], [-1.0, 0.0, 1.0], [0.0, -1.0, 0.0]],
+            [[1e-06, 0.0, 0.5], [0.0, 1.0, 0.0], [0.0, 0.0, 0.0]],
+        )
+    ]
+    obstacle = np.array([[0.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.125, 0.0, 0.0]])
+    _assert_obstacle_only_takes_away(polys, obstacle)
+    f43, f34 = (nusselt.view_factor(polys[i], polys[j], obstacles=polys[:3]) for i, j in ((4, 3), (3, 4)))
+    assert abs(f43 * area(polys[4]) - f34 * area(polys[3])) <= 1e-12 * f34 * area(polys[3])
+
+
 @pytest.mark.parametrize("method", ["montecarlo", "quadrature"])
 def test_replay_hidden_touching_pair_sampled(method):
     # face 3 hides face 2 from face 4 (see the test above), so F = 0, as clipping gives. The

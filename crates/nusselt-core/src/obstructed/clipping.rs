@@ -96,7 +96,7 @@ fn hidden_over(
 
 /// How far the blockers keep from the plane of `p`, relative to p's size: the least height of
 /// a blocker vertex in front of it, and [`CROSSING_CLEARANCE`] for a blocker that crosses
-/// the plane. A vertex within 1e-9 of p's size counts as on the plane, so that a vertex
+/// the plane (or the greatest height of its vertices, if less). A vertex within 1e-9 of p's size counts as on the plane, so that a vertex
 /// shared with p gives the same answer wherever the scene lies (its distance rounds to 0 or
 /// +-1e-16 |x|). A crossing blocker gives exactly [`CROSSING_CLEARANCE`] (not that times
 /// the radius and divided again, whose rounding made two crossed faces tie or not depending
@@ -106,15 +106,19 @@ fn clearance(p: &Polygon, blockers: &[&Polygon]) -> f64 {
     let tol = 1e-9 * r;
     let mut least = f64::INFINITY;
     for b in blockers {
-        let (mut above, mut below) = (f64::INFINITY, false);
+        let (mut above, mut highest, mut below) = (f64::INFINITY, 0.0_f64, false);
         for v in b.vertices() {
             let h = n.dot(*v - c);
             if h > tol {
                 above = above.min(h);
+                highest = highest.max(h);
             }
             below |= h < -tol;
         }
-        least = least.min(if below && above < f64::INFINITY { CROSSING_CLEARANCE } else { above / r });
+        // (a crossing blocker that rises less than CROSSING_CLEARANCE above the plane hovers
+        // over the source where its trace does not cut it: hinged on the source's edge)
+        let crossing = CROSSING_CLEARANCE.min(highest / r);
+        least = least.min(if below && above < f64::INFINITY { crossing } else { above / r });
     }
     least
 }
@@ -919,6 +923,41 @@ mod tests {
                 (g - without) / (tol * free)
             );
             assert!((g - without).abs() <= tol * free, "tol {tol:e}: {:.2e} x tol", (g - without) / (tol * free));
+        }
+    }
+
+    /// A face hinged on an edge of a thin face (face 0 in the plane x = 0, face 4 1e-6 off it)
+    /// crosses that face's plane, but along the edge: no cut, and it hovers within 1e-6 over
+    /// the face, hiding a 1e-6 layer of it (found by the long property run). Counted as
+    /// crossing (0.1), it tied with the receiver's clearance, so the pair's order chose the
+    /// side: from face 4 the layer was missed (hidden 3e-14 of the unobstructed G instead of
+    /// 3.7e-6), and an obstacle that broke the tie raised F. It counts as high as it rises.
+    #[test]
+    fn a_blocker_hinged_on_the_source_edge_hovers() {
+        let raw: [[[f64; 3]; 3]; 5] = [
+            [[0.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, -1.0, -1.0]],
+            [[0.0, 0.0, 0.0], [0.0, 0.0, -1.0], [0.0, 1.0, 0.0]],
+            [[0.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, -1.0]],
+            [[0.0, 0.0, 0.0], [-1.0, 0.0, 1.0], [0.0, -1.0, 0.0]],
+            [[1e-6, 0.0, 0.5], [0.0, 1.0, 0.0], [0.0, 0.0, 0.0]],
+        ];
+        let polys = triangles(&raw);
+        let (f3, f4) = (&polys[3], &polys[4]);
+        let free = method::area_factor(f4, f3, Method::Analytic, &Default::default(), None).unwrap();
+        let hinged = [&polys[0]];
+        assert!(clearance(f4, &hinged) < 1e-5 && clearance(f3, &hinged) >= CROSSING_CLEARANCE);
+        let tight = ClippingOptions { tol: 1e-10, max_evals: 2_000_000, ..Default::default() };
+        let reference = clipping(&polys, 3, 4, &tight, 1e-12);
+        assert!(free - reference > 3e-6 * free, "hidden share {:.2e}", 1.0 - reference / free);
+        for tol in [1e-4, 1e-6, 1e-8] {
+            let o = ClippingOptions { tol, ..Default::default() };
+            let (g43, g34) = (clipping(&polys, 4, 3, &o, 1e-12), clipping(&polys, 3, 4, &o, 1e-12));
+            assert!((g43 - g34).abs() <= 1e-12 * free, "tol {tol:e}: {g43:e} and {g34:e}");
+            assert!(
+                (g43 - reference).abs() <= tol * free,
+                "tol {tol:e}: {:.2e} x tol",
+                (g43 - reference) / (tol * free)
+            );
         }
     }
 }
