@@ -80,7 +80,8 @@ fn hidden_over(
     o: &ClippingOptions,
 ) -> (f64, f64) {
     let (src, rec, src_part, rec_part) = side;
-    let point = |x: Vec3, bl: &[&Polygon], always: bool| point_shadowed_and_free(x, src.normal(), rec, bl, always);
+    let point =
+        |x: Vec3, bl: &[&Polygon], with_free: bool| point_shadowed_and_free(x, src.normal(), rec, bl, with_free);
     // a piece's own unobstructed G, for the pieces that integrate the visible F
     let piece_free =
         |t: &[Vec3; 3], tol: f64| Polygon::new(t.to_vec()).ok().map(|p| polygon_pair_within(&p, rec_part, tol));
@@ -96,9 +97,9 @@ fn hidden_over(
 
 /// How far the blockers keep from the plane of `p`, relative to p's size: the least height of
 /// a blocker vertex in front of it, and [`CROSSING_CLEARANCE`] for a blocker that crosses
-/// the plane (or the greatest height of its vertices, if less). A vertex within 1e-9 of p's size counts as on the plane, so that a vertex
-/// shared with p gives the same answer wherever the scene lies (its distance rounds to 0 or
-/// +-1e-16 |x|). A crossing blocker gives exactly [`CROSSING_CLEARANCE`] (not that times
+/// the plane (or the greatest height of its vertices, if less). A vertex within 1e-9 of p's
+/// size counts as on the plane, so that a vertex shared with p gives the same answer wherever
+/// the scene lies (its distance rounds to 0 or +-1e-16 |x|). A crossing blocker gives exactly [`CROSSING_CLEARANCE`] (not that times
 /// the radius and divided again, whose rounding made two crossed faces tie or not depending
 /// on where the scene lies, and so chose the side to integrate over by translation).
 fn clearance(p: &Polygon, blockers: &[&Polygon]) -> f64 {
@@ -290,8 +291,8 @@ pub const MAX_SOURCE_EVALS: usize = 60_000;
 
 /// What [`adaptive_over_source`] integrates: the part of the point F from a source point to
 /// the receiver that the given blockers hide and, when asked for, the point F without
-/// blockers (one projection gives both, see [`point_shadowed_and_free`]); and a source piece's exact unobstructed G to the receiver
-/// (None for a sliver that is no polygon).
+/// blockers (one projection gives both, see [`point_shadowed_and_free`]); and a source
+/// piece's exact unobstructed G to the receiver (None for a sliver that is no polygon).
 struct Integrand<'f> {
     point: &'f dyn Fn(Vec3, &[&Polygon], bool) -> (f64, Option<f64>),
     /// the point F without blockers alone
@@ -311,8 +312,7 @@ const PIECE_FREE_TOL: f64 = 0.1;
 const VISIBLE_SHARE: f64 = 0.01;
 
 /// The integral over the source of the hidden part of the point F and its error estimate, by
-/// globally adaptive
-/// triangle subdivision: every leaf triangle carries its value by the rule of
+/// globally adaptive triangle subdivision: every leaf triangle carries its value by the rule of
 /// [`source_rule`] (degree 5, or 2 for loose targets), the sum over its four children and
 /// the difference of the two as error estimate (the point F is given only the blockers that
 /// meet the leaf's shaft, as `casters`: the same blockers, cut to where they can cast, see
@@ -463,17 +463,17 @@ fn adaptive_over_source(
         }
         let bl = pick(&active);
         samples.clear();
-        samples.extend(rule_points(&rule, &t).map(|(x, w)| (w, point(x, &bl, false))));
+        samples.extend(rule_points(&rule, &t).map(|(x, w)| (x, w, point(x, &bl, false))));
         evals.set(evals.get() + rule.len());
-        let (lo, hi) = samples.iter().fold((f64::INFINITY, 0.0_f64), |(lo, hi), &(_, v)| (lo.min(v.0), hi.max(v.0)));
+        let (lo, hi) = samples.iter().fold((f64::INFINITY, 0.0_f64), |(lo, hi), s| (lo.min(s.2 .0), hi.max(s.2 .0)));
         // (the free F only where the hidden part is steep: a contour sum per sample saved)
         if hi > COARSE_SPREAD * lo && lo > 0.0 {
-            for (x, v) in rule_points(&rule, &t).zip(samples.iter_mut()) {
-                v.1 .1 = Some((integrand.free_point)(x.0));
+            for (x, _, v) in samples.iter_mut() {
+                v.1 = Some((integrand.free_point)(*x));
             }
         }
-        let free = if samples.iter().all(|&(_, v)| mostly_hidden(v)) {
-            let rough: f64 = samples.iter().map(|&(w, v)| w * v.1.unwrap_or(0.0)).sum();
+        let free = if samples.iter().all(|s| mostly_hidden(s.2)) {
+            let rough: f64 = samples.iter().map(|&(_, w, v)| w * v.1.unwrap_or(0.0)).sum();
             let allowed = PIECE_FREE_TOL * goal;
             if rough > allowed {
                 (integrand.piece_free)(&t, allowed / rough)
@@ -485,8 +485,8 @@ fn adaptive_over_source(
         };
         let visible = free.is_some();
         offset += free.unwrap_or(0.0);
-        let whole = samples.iter().map(|&(w, v)| w * part(visible, v)).sum::<f64>();
-        let (least, most) = samples.iter().fold((f64::INFINITY, 0.0_f64), |(lo, hi), &(_, v)| {
+        let whole = samples.iter().map(|&(_, w, v)| w * part(visible, v)).sum::<f64>();
+        let (least, most) = samples.iter().fold((f64::INFINITY, 0.0_f64), |(lo, hi), &(_, _, v)| {
             let v = part(visible, v);
             (lo.min(v), hi.max(v))
         });

@@ -118,9 +118,7 @@ pub fn pair_with(ctx: &Context, i: usize, j: usize, m: &Estimator, known: Known)
     if cand.is_empty() {
         // Nothing can block: every method reduces to the unobstructed integral.
         return Ok(match m {
-            Estimator::MonteCarlo(o) if !o.control_variate => {
-                mean_and_error(&montecarlo(a, b, None, &[], o, i, j).0.iter().map(|e| e[0]).collect::<Vec<_>>())
-            }
+            Estimator::MonteCarlo(o) if !o.control_variate => montecarlo(a, b, None, &[], o, i, j).estimate(None),
             Estimator::Quadrature(o) if !o.control_variate => {
                 Estimate::exact(quadrature(a, b, None, &[], o.order).visible)
             }
@@ -141,11 +139,9 @@ pub fn pair_with(ctx: &Context, i: usize, j: usize, m: &Estimator, known: Known)
             Estimate::exact(if o.control_variate { parts.with_free(free) } else { parts.visible })
         }
         Estimator::MonteCarlo(o) => {
-            let (est, peak_blocked) = montecarlo(a, b, Some(&visible), &blockers, &o, i, j);
-            // the control variate as for quadrature (see sampled::Parts::with_free)
-            let free = if o.control_variate && !peak_blocked { Some(exact()?) } else { None };
-            let per: Vec<f64> = est.iter().map(|e| free.map_or(e[0], |g| g - e[1])).collect();
-            mean_and_error(&per)
+            let reps = montecarlo(a, b, Some(&visible), &blockers, &o, i, j);
+            let free = if reps.wants_free(o.control_variate) { Some(exact()?) } else { None };
+            reps.estimate(free)
         }
         Estimator::Subdivision(o) => {
             let pieces = subdivide_at_blockers(b, &blockers, o.divisions);

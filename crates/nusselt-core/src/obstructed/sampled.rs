@@ -183,9 +183,32 @@ fn stratum_seed(seed: u64, key: [u64; 3], s: usize, strata: usize) -> u64 {
 /// Independent scramblings per RQMC estimate (their spread gives the standard error).
 pub(super) const RQMC_REPS: usize = 8;
 
+/// The RQMC estimates of the visible and the blocked part of a G, one pair per scrambling,
+/// and `peak_blocked` as in [`Parts`].
+pub(super) struct Replicates {
+    parts: Vec<[f64; 2]>,
+    peak_blocked: bool,
+}
+
+impl Replicates {
+    /// Whether [`Replicates::estimate`] needs the unobstructed G to use the control variate.
+    pub fn wants_free(&self, control_variate: bool) -> bool {
+        control_variate && !self.peak_blocked
+    }
+
+    /// G with its standard error from the spread of the scramblings: `free` minus the blocked
+    /// part given `free` (see [`Replicates::wants_free`]), the visible part otherwise (the
+    /// choice of [`Parts::with_free`]; each scrambling's estimate is kept as it is, so the
+    /// spread stays that of the estimator).
+    pub fn estimate(&self, free: Option<f64>) -> Estimate {
+        let per: Vec<f64> = self.parts.iter().map(|e| free.map_or(e[0], |g| g - e[1])).collect();
+        mean_and_error(&per)
+    }
+}
+
 /// Area-to-area RQMC: 8 independent Owen scramblings of a 4-D Sobol sequence, each an
 /// estimate of the visible and of the blocked part of G (by `visible`; None = everything
-/// visible); the spread of the 8 gives the standard error. `peak_blocked` as in [`Parts`].
+/// visible); the spread of the 8 gives the standard error.
 pub(super) fn montecarlo(
     a: &Polygon,
     b: &Polygon,
@@ -194,7 +217,7 @@ pub(super) fn montecarlo(
     o: &MonteCarloOptions,
     i: usize,
     j: usize,
-) -> (Vec<[f64; 2]>, bool) {
+) -> Replicates {
     // strata: the pairs of pieces of the two polygons cut along the blockers' planes (see
     // [`cut_at_blocker_planes`]), each with its share of the samples: behind a partition the
     // hidden part is then a whole stratum, sampled without the visibility step
@@ -233,7 +256,7 @@ pub(super) fn montecarlo(
             }
         }
     });
-    (est, peak.1 > peak.0)
+    Replicates { parts: est, peak_blocked: peak.1 > peak.0 }
 }
 
 /// Independent scramblings of the RQMC estimators (the pair form and the point form of
