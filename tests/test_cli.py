@@ -334,3 +334,27 @@ def test_ctrl_c_while_the_command_starts_is_a_quiet_exit_130():
     # a program that imports nusselt gets its KeyboardInterrupt as usual
     r = run("analysis.py")
     assert r.returncode != 0 and "KeyboardInterrupt" in r.stderr and "Traceback" in r.stderr
+
+
+_BLAS_TIMEOUT_SEEN = """
+import os, sys
+sys.argv[0] = ARGV0
+import nusselt
+print(os.environ.get("OPENBLAS_THREAD_TIMEOUT"))
+"""
+
+
+def test_the_command_lets_idle_blas_threads_sleep_and_leaves_programs_alone():
+    def seen(argv0, **env):
+        code = _BLAS_TIMEOUT_SEEN.replace("ARGV0", repr(argv0))
+        base = {k: v for k, v in os.environ.items() if k != "OPENBLAS_THREAD_TIMEOUT"}
+        r = subprocess.run(
+            [sys.executable, "-c", code], env={**base, **env}, capture_output=True, text=True, timeout=120
+        )
+        assert r.returncode == 0, r.stderr
+        return r.stdout.strip()
+
+    command = os.path.join("venv", "bin", "nusselt")
+    assert seen(command) == "4"  # set before numpy (and its OpenBLAS) load
+    assert seen(command, OPENBLAS_THREAD_TIMEOUT="28") == "28"  # the user's setting wins
+    assert seen("analysis.py") == "None"  # a program importing nusselt keeps its environment

@@ -10,6 +10,18 @@ import os as _os
 import sys as _sys
 from typing import TYPE_CHECKING, Any
 
+
+def _is_the_command() -> bool:
+    return _os.path.splitext(_os.path.basename(_sys.argv[0]))[0] == "nusselt"
+
+
+# The `nusselt` command: numpy's OpenBLAS pool busy-waits about 0.1 s of CPU per idle thread
+# after it loads (2^28 cycles by default), more than the rest of a short run's start-up.
+# Idle threads sleeping at once (2^4 cycles) leaves dense solves as fast (docs/scale.md).
+# The user's own setting wins, and a program importing nusselt keeps its environment.
+if _is_the_command() and "numpy" not in _sys.modules:
+    _os.environ.setdefault("OPENBLAS_THREAD_TIMEOUT", "4")
+
 try:
     from . import io
     from ._core import __version__
@@ -23,7 +35,7 @@ except KeyboardInterrupt:
     # Ctrl-C while the `nusselt` command starts (numpy, scipy and the core load before its
     # main() runs): a quiet exit with the code for SIGINT, as once the command runs. A
     # program importing nusselt gets its KeyboardInterrupt as usual.
-    if _os.path.splitext(_os.path.basename(_sys.argv[0]))[0] == "nusselt":
+    if _is_the_command():
         print("nusselt: interrupted", file=_sys.stderr)
         raise SystemExit(130) from None
     raise
