@@ -5,7 +5,7 @@ use super::kinks::split_at_kinks;
 use super::rules::{area3, centroid3, radon7, rule_integral, rule_points, source_points};
 use super::{ClippingOptions, Estimate};
 use crate::geometry::{clip_to_halfspace, plane_chord, Polygon, Vec3};
-use crate::quadrature::adaptive::{split_by_shape, split_in_four};
+use crate::quadrature::adaptive::split_by_shape;
 use crate::unobstructed::analytic::{point_polygon, polygon_pair_within};
 use crate::visibility::shadow::point_shadowed_and_free;
 
