@@ -126,10 +126,15 @@ def run_blocks(
     index = checkpoint.next_index() if checkpoint is not None else 0
     if todo:
         payload = scene_payload(scene)
+
         # one future under a fresh key: scattering the dict itself keys its arrays by their names
         # ("coords", ...), and a second run would reuse keys the first run is still releasing
         # (its blocks then failed with "lost dependencies")
-        [shipped] = client.scatter([payload], broadcast=True, hash=False)
+        def ship():
+            [f] = client.scatter([payload], broadcast=True, hash=False)
+            return f
+
+        shipped = ship()
         tag = hashlib.sha256((payload["digest"] + method + repr(sorted(opts.items())) + kind).encode()).hexdigest()[:16]
         # keys fresh per run: a key the scheduler still holds from an earlier, cancelled or
         # released run of the same blocks would hand its fate (cancelled) to this one
@@ -138,6 +143,13 @@ def run_blocks(
         resubmits = dict.fromkeys(plan, 0)
 
         def submit(start: int, stop: int, attempt: int = 0):
+            nonlocal shipped
+            # the scene itself can be lost (every worker holding it gone before the nanny's
+            # new ones got a copy): its blocks are then cancelled for "lost dependencies",
+            # and again at every resubmission unless it is shipped again
+            if attempt and shipped.status != "finished":
+                client.cancel([shipped])
+                shipped = ship()
             f = client.submit(
                 compute_block,
                 shipped,
@@ -162,8 +174,9 @@ def run_blocks(
                     result = f.result()
                 except CancelledError:
                     # the scheduler may forget a task whose worker died while its result was
-                    # being handed over ("already forgotten"): compute that block again,
-                    # under a new key, a bounded number of times
+                    # being handed over ("already forgotten"), or cancel it when the scene it
+                    # needs was lost: compute that block again, under a new key (with the
+                    # scene shipped again if lost), a bounded number of times
                     if resubmits[start] >= RETRIES:
                         raise
                     resubmits[start] += 1
