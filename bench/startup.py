@@ -30,16 +30,7 @@ import sys
 import tempfile
 
 sys.path.insert(0, str(pathlib.Path(__file__).parent))
-from cube import cube_faces  # noqa: E402
-
-
-def write_obj(path: pathlib.Path, polys) -> None:
-    lines, k = [], 1
-    for q in polys:
-        lines += [f"v {x:.17g} {y:.17g} {z:.17g}" for x, y, z in q]
-        lines.append("f " + " ".join(str(k + i) for i in range(len(q))))
-        k += len(q)
-    path.write_text("\n".join(lines) + "\n")
+from cube import cube_faces, write_cube_obj  # noqa: E402
 
 
 def write_vs3(path: pathlib.Path, polys) -> None:
@@ -76,7 +67,7 @@ def main() -> None:
     polys, _ = cube_faces(8)
     with tempfile.TemporaryDirectory() as tmp:
         obj, vs3 = pathlib.Path(tmp, "cube384.obj"), pathlib.Path(tmp, "cube384.vs3")
-        write_obj(obj, polys)
+        write_cube_obj(str(obj), 8)
         write_vs3(vs3, polys)
         env = {k: v for k, v in os.environ.items() if k != "OPENBLAS_THREAD_TIMEOUT"}
         py = sys.executable

@@ -114,9 +114,10 @@ fn hidden_over(
 /// a blocker vertex in front of it, and [`CROSSING_CLEARANCE`] for a blocker that crosses
 /// the plane (or the greatest height of its vertices, if less). A vertex within 1e-9 of p's
 /// size counts as on the plane, so that a vertex shared with p gives the same answer wherever
-/// the scene lies (its distance rounds to 0 or +-1e-16 |x|). A crossing blocker gives exactly [`CROSSING_CLEARANCE`] (not that times
-/// the radius and divided again, whose rounding made two crossed faces tie or not depending
-/// on where the scene lies, and so chose the side to integrate over by translation).
+/// the scene lies (its distance rounds to 0 or +-1e-16 |x|). A crossing blocker gives exactly
+/// [`CROSSING_CLEARANCE`] (not that times the radius and divided again, whose rounding made two
+/// crossed faces tie or not depending on where the scene lies, and so chose the side to
+/// integrate over by translation).
 fn clearance(p: &Polygon, blockers: &[&Polygon]) -> f64 {
     let (c, n, r) = (p.centroid(), p.normal(), p.radius());
     let tol = 1e-9 * r;
