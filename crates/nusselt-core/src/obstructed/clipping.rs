@@ -5,7 +5,7 @@ use super::kinks::split_at_kinks;
 use super::rules::{area3, centroid3, radon7, rule_integral, rule_points, source_points};
 use super::{ClippingOptions, Estimate};
 use crate::geometry::{clip_to_halfspace, plane_chord, Polygon, Vec3};
-use crate::quadrature::adaptive::split_by_shape;
+use crate::quadrature::adaptive::split_in_four;
 use crate::unobstructed::analytic::{point_polygon, polygon_pair_within};
 use crate::visibility::shadow::point_shadowed_and_free;
 
@@ -333,8 +333,7 @@ const VISIBLE_SHARE: f64 = 0.01;
 
 /// The integral over the source of the hidden part of the point F and its error estimate, by
 /// globally adaptive triangle subdivision: every leaf triangle carries its value by the rule of
-/// [`source_rule`] (degree 5, or 2 for loose targets), the sum over its four children (by
-/// [`split_by_shape`]: a sliver's midpoint quarters miss what lies near its ends as it does) and
+/// [`source_rule`] (degree 5, or 2 for loose targets), the sum over its four children and
 /// the difference of the two as error estimate (the point F is given only the blockers that
 /// meet the leaf's shaft, as `casters`: the same blockers, cut to where they can cast, see
 /// [`cut_to_slab`]). The leaf with the largest estimate is split until the estimates add up
@@ -450,7 +449,7 @@ fn adaptive_over_source(
             }
             v
         };
-        let k = split_by_shape(&l.t);
+        let k = split_in_four(&l.t);
         let kids = [0, 1, 2, 3].map(|i| rule_integral(&rule, &k[i], &g));
         evals.set(evals.get() + 4 * rule.len());
         // [methods] work budget: one unit per shadow evaluation and blocker
@@ -556,7 +555,7 @@ fn adaptive_over_source(
             done.push(worst);
             continue;
         }
-        for (k, whole) in split_by_shape(&worst.t).into_iter().zip(kids) {
+        for (k, whole) in split_in_four(&worst.t).into_iter().zip(kids) {
             let mut active = Vec::new();
             test.active(&k, &worst.active, &mut active);
             if active.is_empty() {

@@ -21,46 +21,6 @@ pub fn split_in_four(t: &[Vec3; 3]) -> [[Vec3; 3]; 4] {
     [[t[0], m01, m20], [m01, t[1], m12], [m20, m12, t[2]], [m01, m12, m20]]
 }
 
-/// Aspect (longest edge over the height onto it) above which [`split_by_shape`] cuts a
-/// triangle across its length; an equilateral triangle has 1.15, a right isosceles one 2.
-pub const SLIVER_ASPECT: f64 = 4.0;
-
-/// Four children of `t`: [`split_in_four`] for a well-shaped triangle; a sliver (aspect above
-/// [`SLIVER_ASPECT`]) has its longest edge bisected, and each half's longest edge again: at
-/// the sliver's short end one child is a quarter as long as the sliver. A sliver's children
-/// by [`split_in_four`] all span half its length, and their samples keep as far from its
-/// ends as its own: an integrand that changes within the sliver's width of an end is missed
-/// by a piece and its children alike, which then agree and claim an error they do not have.
-pub fn split_by_shape(t: &[Vec3; 3]) -> [[Vec3; 3]; 4] {
-    if aspect(t) <= SLIVER_ASPECT {
-        return split_in_four(t);
-    }
-    let [a, b] = bisect_longest(t);
-    let ([a0, a1], [b0, b1]) = (bisect_longest(&a), bisect_longest(&b));
-    [a0, a1, b0, b1]
-}
-
-/// Longest edge over the height onto it (infinite for a degenerate triangle).
-fn aspect(t: &[Vec3; 3]) -> f64 {
-    let longest = (0..3).map(|i| (t[(i + 1) % 3] - t[i]).length_squared()).fold(0.0, f64::max);
-    let twice_area = (t[1] - t[0]).cross(t[2] - t[0]).length();
-    if twice_area > 0.0 {
-        longest / twice_area
-    } else {
-        f64::INFINITY
-    }
-}
-
-/// The two halves of `t` across the midpoint of its longest edge, each wound as `t`.
-fn bisect_longest(t: &[Vec3; 3]) -> [[Vec3; 3]; 2] {
-    let i = (0..3)
-        .max_by(|&i, &j| (t[(i + 1) % 3] - t[i]).length_squared().total_cmp(&(t[(j + 1) % 3] - t[j]).length_squared()))
-        .unwrap_or(0);
-    let (p, q, o) = (t[i], t[(i + 1) % 3], t[(i + 2) % 3]);
-    let m = 0.5 * (p + q);
-    [[p, m, o], [m, q, o]]
-}
-
 /// Deepest bisection of [`graded_panels`].
 pub const MAX_PANEL_DEPTH: u32 = 60;
 
@@ -156,37 +116,6 @@ mod tests {
         }
         let centroid = |t: &[Vec3; 3]| (t[0] + t[1] + t[2]) / 3.0;
         assert!((centroid(&kids[3]) - centroid(&t)).length() <= 1e-15);
-    }
-
-    #[test]
-    fn a_sliver_is_cut_across_its_length_and_a_shapely_triangle_in_four() {
-        let shapely = [Vec3::new(0.1, -0.3, 0.2), Vec3::new(1.7, 0.2, -0.4), Vec3::new(0.4, 1.1, 0.9)];
-        assert_eq!(split_by_shape(&shapely), split_in_four(&shapely));
-        let tiles = |kids: &[[Vec3; 3]], t: &[Vec3; 3], share: f64| {
-            // the children tile the parent with its orientation, `share` of it each
-            let a = area(t);
-            kids.iter().all(|k| (area(k) - share * a).length() <= 1e-12 * share * a.length())
-        };
-        // flat: one long edge (length 1, tilted in space), the third vertex 0.02 off its middle
-        // (its halves are needles)
-        let flat = [Vec3::new(0.0, 0.0, 0.0), Vec3::new(1.0, 0.3, 0.1), Vec3::new(0.5, 0.17, 0.05)];
-        assert!(aspect(&flat) > 40.0);
-        let mut pieces = vec![flat];
-        for level in 1..=3 {
-            pieces = pieces.iter().flat_map(split_by_shape).collect();
-            assert!(tiles(&pieces, &flat, 0.25_f64.powi(level)));
-        }
-        // a needle (two long edges, 0.02 apart at their far ends) cannot lose its shape near
-        // the apex, but its short end gets a child a quarter as long; midpoint children all
-        // span half its length
-        let (apex, b, c) = (Vec3::new(0.0, 0.0, 0.0), Vec3::new(1.0, 0.3, 0.01), Vec3::new(1.0, 0.3, -0.01));
-        let needle = [apex, b, c];
-        let kids = split_by_shape(&needle);
-        assert!(tiles(&kids, &needle, 0.25));
-        let from_end = |k: &[Vec3; 3]| k.iter().map(|v| (*v - b).length().min((*v - c).length())).fold(0.0, f64::max);
-        let length = (b - apex).length();
-        assert!(kids.iter().any(|k| from_end(k) <= 0.26 * length));
-        assert!(split_in_four(&needle).iter().all(|k| from_end(k) >= 0.49 * length));
     }
 
     #[test]
