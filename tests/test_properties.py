@@ -458,6 +458,41 @@ def test_replay_default_tol_miss_on_a_five_face_pair():
     assert abs(f - reference) <= DEFAULT_OBSTRUCTED_TOL * free, (f - reference) / (DEFAULT_OBSTRUCTED_TOL * free)
 
 
+@pytest.mark.xfail(strict=True, reason="open: estimates short of the error on sliver start pieces")
+def test_replay_sliver_start_pieces_meet_tol():
+    # found by the long run (seed 23) with slivers cut across (see the five-face pair above),
+    # and open with midpoint quarters too. Faces 0 and 2 share an edge; face 0 hides all but
+    # 3e-5 of F[1, 2] = 2.2145e-6 (obstructed_tol 1e-8 and 1e-10 agree to 2e-16); the kink
+    # split leaves 17 start pieces of aspect up to 1 100: at tol 1e-5 2.0 x tol off with an
+    # estimate within the goal. The second scene (a blocker's vertex on the source's edge, an
+    # obstacle in front of it): 6.5 x tol off at the default
+    a = [
+        np.array(p)
+        for p in (
+            [[0.0, 0.0, 0.365234375], [-1.0, 0.0, 0.0], [-0.90625, -0.9375, 0.0]],
+            [[1.0, -1.0, 0.0], [-0.53125, 0.0, 0.4921875], [-0.015625, -0.1640625, 0.265625]],
+            [[-1.0, 0.0, -0.5], [-0.90625, -0.9375, 0.0], [0.0, 0.0, 0.365234375]],
+        )
+    ]
+    b = [
+        np.array(p)
+        for p in (
+            [[0.0, 0.0, 0.3671875], [-1.0, 0.0, 0.0], [-0.9375, -1.0, 0.0]],
+            [[0.0, 0.0, -1.0], [-0.9375, -0.9375, 0.0], [0.0, 0.0, 1.0]],
+            [[0.0, -1.0, 0.0], [-0.5, 0.0, 0.484375], [-0.015625, -0.1640625, 0.265625]],
+            [[0.0, 0.0, 0.0], [0.0, -1.0, 0.0], [-1.0, 0.0, 0.0]],
+        )
+    ]
+    misses = []
+    for polys, tol in ((a, 1e-5), (a, 1e-6), (b, DEFAULT_OBSTRUCTED_TOL)):
+        others = [p for k, p in enumerate(polys) if k not in (1, 2)]
+        free = nusselt.view_factor(polys[1], polys[2])
+        ref = nusselt.view_factor(polys[1], polys[2], obstacles=others, method="clipping", tol=1e-10)
+        f = nusselt.view_factor(polys[1], polys[2], obstacles=others, method="clipping", tol=tol)
+        misses.append(abs(f - ref) / (tol * free))
+    assert max(misses) <= 1.0, misses
+
+
 def test_replay_tiny_coordinates_moved_scene():
     # found by the long run (seed 23). Coordinates down to 1e-311 (subnormal) and 1e-12:
     # F[3, 2] was 0.2298468359 at unit scale, 0.2298461904 scaled by 1e-6 and moved by 7e-6
