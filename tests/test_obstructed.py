@@ -64,6 +64,22 @@ def test_point_with_coaxial_blocker(method):
     assert f == pytest.approx(expect, abs=1e-9 if method in EXACT_METHODS else 2e-3)
 
 
+@pytest.mark.parametrize("method", EXACT_METHODS + AREA_METHODS)
+@pytest.mark.parametrize("offset", [0.0, 1.0, 7.0, 1e3])
+def test_point_with_coaxial_blocker_tiny_and_far_out(method, offset):
+    # the same with the scene 1e-6 across at (offset, offset, offset): the candidate test's
+    # triangle around p (1e-9 of the scene) was below the rounding of p's coordinates from
+    # offset 1 on and found no blocker, F unobstructed (0.125 for 0.101)
+    s = 1e-6
+    target = s * rect(-1, 1, -1, 1, z=2, flip=True) + offset
+    blocker = s * rect(-0.3, 0.3, -0.2, 0.4, z=1, flip=True) + offset
+    p, n = np.full(3, offset), [0, 0, 1]
+    expect = nusselt.point_view_factor(p, n, target) - nusselt.point_view_factor(p, n, blocker)
+    f = nusselt.point_view_factor(p, n, target, obstacles=[blocker], method=method)
+    # (the coordinates carry 1e-16 x offset / 1e-6 of the scene's size)
+    assert f == pytest.approx(expect, abs=(1e-9 + 1e-8 * offset) if method in EXACT_METHODS else 2e-3)
+
+
 @pytest.mark.parametrize("method", EXACT_METHODS)
 @pytest.mark.parametrize("k,mixed", [(2, False), (5, False), (4, True)])
 def test_meshed_blocker_blocks_like_one_polygon(method, k, mixed, blocked_plates_exact):

@@ -125,6 +125,34 @@ def test_obstructed_rows_equal_the_per_point_api_with_obstacles():
     assert np.all(f.sum(axis=1) <= 1 + 1e-12)
 
 
+@pytest.mark.parametrize("offset", [0.0, 7.0, 1e3])
+def test_obstructed_rows_of_a_tiny_scene_far_out(offset):
+    # a room 1e-6 across at (offset, offset, offset): the candidate test's triangle around each
+    # sensor was below the rounding of its coordinates and the crate hid nothing (0.2395 for
+    # 0.1387), or at 1e3 the call raised
+    s = 1e-6
+    room = [s * f + offset for f in box((0, 0, 0), (4, 3, 2.5))]
+    crate = [s * f + offset for f in box((1.0, 1.0, 0.3), (2.2, 2.0, 1.1), inward=False)]
+    polys = room + crate
+    scene = nusselt.Scene.from_polygons(polys)
+    pts = s * np.array([[0.5, 0.5, 0.6], [3.0, 2.5, 0.5], [1.6, 1.5, 0.01]]) + offset
+    normals = np.array([[1, 0.2, 0.1], [-1, -0.5, 0.3], [0, 0, 1]], float)
+    normals /= np.linalg.norm(normals, axis=1)[:, None]
+    f = sensors.point_view_factors(pts, normals, scene, dense=True)
+    hidden = 0
+    for k in range(len(pts)):
+        for j in range(len(polys)):
+            others = [polys[i] for i in range(len(polys)) if i != j]
+            want = nusselt.point_view_factor(pts[k], normals[k], polys[j], obstacles=others)
+            free = nusselt.point_view_factor(pts[k], normals[k], polys[j])
+            hidden += want < free * (1 - 1e-3)
+            # (coordinates carry 1e-16 x offset, 1e-10 x offset of the scene's size)
+            assert f[k, j] == pytest.approx(want, abs=1e-9 + 1e-8 * offset), (k, j)
+    assert hidden >= 3
+    # closed room: every sensor sees all of it, crate included
+    np.testing.assert_allclose(f.sum(axis=1), 1.0, atol=1e-8 + 1e-8 * offset)
+
+
 def test_by_surface_is_the_sum_of_patch_columns_and_dense_equals_sparse():
     scene = nusselt.Scene.from_polygons(box((0, 0, 0), (2, 1, 1)), surface=["a", "b", "c", "c", "d", "a"]).refined(0.3)
     pts = np.array([[0.3, 0.5, 0.5], [1.5, 0.2, 0.8]])

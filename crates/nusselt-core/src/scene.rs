@@ -574,7 +574,8 @@ pub fn point_view_factor(p: Vec3, n: Vec3, b: Polygon, obstacles: Vec<Polygon>, 
             // The point becomes a tiny source patch sampled at its centroid (= p).
             let size = b.radius().max(p.distance(b.centroid()));
             let (t, s) = crate::geometry::tangent_frame(n);
-            let e = 1e-7 * size;
+            // (and resolved in p's coordinates, as for the candidate test of obstructed::point)
+            let e = (1e-7 * size).max(1e-9 * p.abs().max_element());
             let tri = Polygon::new(vec![
                 p + e * (2.0 * t),
                 p + e * (-t + 1.7320508075688772 * s),

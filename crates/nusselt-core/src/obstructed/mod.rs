@@ -192,19 +192,25 @@ fn clip_pair_polygons(a: &Polygon, b: &Polygon) -> Option<(Option<Polygon>, Opti
     Some((keep(a, va), keep(b, vb)))
 }
 
+/// A point (p, unit n) as the source polygon of a candidate-blocker test: a triangle 1e-9 of
+/// `size` (the scene's or the receiver's) around p in its tangent plane, but no smaller than
+/// 1e-9 of p's coordinates: smaller, rounding bends it out of its plane or collapses it (a
+/// scene 1e-6 across at x = 7 had the candidate test then find no blocker: F unobstructed,
+/// 0.125 for 0.101).
+/// Larger only adds candidates, each then tested from p itself.
+pub(crate) fn point_source(p: Vec3, n: Vec3, size: f64) -> Result<Polygon> {
+    let (t, s) = crate::geometry::tangent_frame(n);
+    let eps = 1e-9 * size.max(p.abs().max_element());
+    Polygon::new(vec![p + eps * t, p + eps * s, p - eps * (t + s)])
+        .map_err(|err| Error::InvalidArgument(format!("point {p:?}, normal {n:?}: {err}")))
+}
+
 /// F from a differential area (p, unit n) to polygon j of the scene, with visibility.
 /// Nothing coplanar with the receiver blocks (see [`Occluders`]).
 pub fn point(ctx: &Context, p: Vec3, n: Vec3, j: usize, m: &Estimator) -> Result<Estimate> {
     let b = &ctx.polygons[j];
     let ignore = &ctx.ignore([j]);
-    // Candidate blockers: a point is a degenerate source polygon, so test against a tiny
-    // triangle around p in its tangent plane.
-    let (t, s) = crate::geometry::tangent_frame(n);
-    let eps = 1e-9 * b.radius().max(p.distance(b.centroid()));
-    let src = match Polygon::new(vec![p + eps * t, p + eps * s, p - eps * (t + s)]) {
-        Ok(poly) => poly,
-        Err(_) => return Err(Error::InvalidArgument("point and normal must be finite".into())),
-    };
+    let src = point_source(p, n, b.radius().max(p.distance(b.centroid())))?;
     let mut cand = Vec::new();
     ctx.vis.candidates_between(&src, b, ignore, &mut cand);
     let lambert = analytic::point_polygon(p, n, b.vertices());

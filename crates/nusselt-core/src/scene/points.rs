@@ -12,7 +12,7 @@
 
 use super::{blocked_clusters, bounding_box, morton_ranks, AnyMethod, Scene};
 use crate::error::{Error, Result};
-use crate::geometry::{tangent_frame, turns_left, Polygon, Vec3};
+use crate::geometry::{turns_left, Polygon, Vec3};
 use crate::matrix::PairBlock;
 use crate::obstructed::{self, Context, Estimator};
 use crate::quadrature::AreaRule;
@@ -445,11 +445,7 @@ fn point_row_with(
         row.sort_unstable_by_key(|e| e.0);
         return Ok(row);
     };
-    // p as a degenerate source polygon: a tiny triangle around it in its tangent plane
-    let (tu, tv) = tangent_frame(n);
-    let eps = 1e-9 * scale;
-    let src = Polygon::new(vec![p + eps * tu, p + eps * tv, p - eps * (tu + tv)])
-        .map_err(|e| Error::InvalidArgument(format!("point {p:?}: {e}")))?;
+    let src = obstructed::point_source(p, n, scale)?;
     let skip_ids: Vec<u32> = skip.into_iter().collect();
     let mut f: Vec<f64> = free.iter().map(|e| e.1).collect();
     let idx: Vec<u32> = (0..free.len() as u32).collect();
