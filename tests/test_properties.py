@@ -493,6 +493,48 @@ def test_replay_sliver_start_pieces_meet_tol():
     assert max(misses) <= 1.0, misses
 
 
+@pytest.mark.xfail(strict=True, reason="open: pair (3, 4) is 4.4 x obstructed_tol off at the default")
+def test_replay_default_tol_miss_found_as_a_scale_change():
+    # found by the long run (seed 23, after 4 133 passing cases) as "scaled by 1e-6 and moved
+    # changes F[4, 3] by 2.14 x the bound": the moved scene is right (0.15 x tol) and the
+    # unit-scale one is off. F[3, 4] with faces 0, 1, 2 between: 0.0675359277 at
+    # obstructed_tol 1e-6 (auto and clipping alike), 0.0675354512 at 1e-7 .. 1e-11 (all equal
+    # to 16 digits): +4.43 x tol x F_free; 1e-5 is within 0.49 x. The full start (children
+    # for every start piece, as below 1e-6) gives the same 4.43 x: the estimate, not the
+    # coarse start, misses, as in the pairs above
+    polys = [
+        np.array(p)
+        for p in (
+            [[0.0, 0.0, 0.0], [0.6433136330632752, 0.0, 0.0], [0.5832171524012022, 0.9, -0.828138184532504]],
+            [
+                [0.0, 0.0, -0.1338967507835338],
+                [-0.5147964105745512, 0.13880781752124105, 2.415555459061412e-230],
+                [1.6647889125163395e-17, 0.7697545535238661, -0.416252236642097],
+            ],
+            [
+                [0.4864707712692875, 0.9999999999999999, -0.15186839279377407],
+                [0.31003715205580673, 0.757198728164409, 0.698284156943489],
+                [1e-300, 2.2250738585e-313, -0.045130812418270105],
+            ],
+            [
+                [-0.7406896115032957, -0.630184832403041, -0.21875],
+                [0.0, -0.875, 0.0],
+                [0.2578125, 1.0, -0.4302948521957569],
+            ],
+            [
+                [-4.361026004161372e-209, 1.0, -0.7131574283719972],
+                [0.42428285915371355, -0.5736358017532267, 0.0],
+                [0.0, 0.7315174795604928, 0.3333333333333333],
+            ],
+        )
+    ]
+    others = polys[:3]
+    free = nusselt.view_factor(polys[3], polys[4])
+    reference = nusselt.view_factor(polys[3], polys[4], obstacles=others, method="clipping", tol=1e-10)
+    f = nusselt.view_factor(polys[3], polys[4], obstacles=others)
+    assert abs(f - reference) <= DEFAULT_OBSTRUCTED_TOL * free, (f - reference) / (DEFAULT_OBSTRUCTED_TOL * free)
+
+
 def test_replay_tiny_coordinates_moved_scene():
     # found by the long run (seed 23). Coordinates down to 1e-311 (subnormal) and 1e-12:
     # F[3, 2] was 0.2298468359 at unit scale, 0.2298461904 scaled by 1e-6 and moved by 7e-6
