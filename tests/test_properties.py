@@ -678,3 +678,35 @@ def test_replay_scale_flipped_start_diagonal_from_another_vertex():
             shift,
             (f - reference) / (DEFAULT_OBSTRUCTED_TOL * free),
         )
+
+
+@pytest.mark.xfail(strict=True, reason="open: two more default-tol misses of the error estimate")
+def test_replay_default_tol_misses_of_seeds_24_and_25():
+    # found by the long runs after the kink split was made scale-free (seed 24 after 5 688
+    # passing cases, seed 25 after 598), both as "an obstacle raises F" and both at every
+    # scale alike: the estimate, not a decision that flips (docs/algorithms.md §6.2).
+    # Seed 24: F[2, 3] with faces 0 and 1 between, 0.0057084648 at obstructed_tol 1e-7 ..
+    # 1e-10 (within 0.2 x tol), -3.42 x tol x F_free at 1e-6 and -1.05 x at 1e-5. Seed 25:
+    # F[1, 2] with face 0 and the obstacle between, 0.0151912600 at 1e-7 .. 1e-12, +6.92 x at
+    # 1e-6, the same on the build before the kink-split change
+    seed24 = [
+        [[0.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, 1.0, 0.0]],
+        [[0.0, 0.0, 0.0], [0.0, 0.126953125, -0.71875], [-0.7890625, 0.0, 0.8515625]],
+        [[0.5, 0.5, 1.0], [0.546875, -0.5, -0.8125], [-0.9921875, 0.83984375, 0.0]],
+        [[0.375, -0.5, 0.0], [0.0, 0.0, 0.0], [0.07421875, 0.0, -0.75]],
+    ]
+    seed25 = [
+        [[0.0, -1.0, 0.0], [0.0, -0.0390625, 0.6953125], [0.390625, 0.90625, -1.0]],
+        [[0.84375, 0.3984375, 1.0], [0.4921875, 0.0, 0.0], [0.03125, -0.3984375, 0.0]],
+        [[-0.59375, 0.0, 0.375], [0.0, 0.0, -0.78125], [-0.69140625, 1.0, 0.0]],
+        [[0.0, 0.0, 1.0], [0.0, 0.0, 0.412109375], [0.0, -1.0, 0.0]],
+    ]
+    misses = []
+    for raw, (i, j), between in ((seed24, (2, 3), (0, 1)), (seed25, (1, 2), (0, 3))):
+        p = [np.array(v) for v in raw]
+        others = [p[k] for k in between]
+        free = nusselt.view_factor(p[i], p[j])
+        ref = nusselt.view_factor(p[i], p[j], obstacles=others, method="clipping", tol=1e-10)
+        f = nusselt.view_factor(p[i], p[j], obstacles=others)
+        misses.append(abs(f - ref) / (DEFAULT_OBSTRUCTED_TOL * free))
+    assert max(misses) <= 1.0, misses
