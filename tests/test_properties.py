@@ -502,8 +502,9 @@ def test_replay_default_tol_miss_found_as_a_scale_change():
     # unit-scale one off. F[3, 4] with faces 0, 1, 2 between: 0.0675359277 at obstructed_tol
     # 1e-6, 0.0675354512 at 1e-7 .. 1e-11 (all equal to 16 digits): +4.43 x tol x F_free.
     # The two placements cut the source into the same pieces but one quad's fan took the
-    # other diagonal (a vertex a rounding off a kink plane had grown a twin; see
-    # `test_replay_scale_flipped_a_start_diagonal`); with that diagonal the estimate misses.
+    # other diagonal (the kink split classed a vertex within rounding of a cut plane by that
+    # rounding's sign; see `test_replay_scale_flipped_a_start_diagonal`); with that diagonal
+    # the estimate misses.
     # Now 0.15 x at scale 1, 1e-3 and 0.1 alike
     polys = [
         np.array(p)
@@ -644,14 +645,18 @@ NEAR_TOUCHING_PAIR = [
 
 
 def test_replay_scale_flipped_a_start_diagonal():
-    # the kink split clipped its pieces with a tolerance of 0, so a vertex a rounding off a
-    # kink plane grew a twin, which moved the fan's first vertex and flipped one quad's
-    # diagonal with the scale: 0.08 x obstructed_tol off at scale 1, 2.84 x at 0.1, 3e-3,
-    # 1e-3 and 1e6. Vertices within the split's tolerance of a plane now count as on it, and
-    # every scale gives the unit-scale pieces
+    # the kink split clipped its pieces with a tolerance of 0, so a vertex within rounding of
+    # a kink plane was classed by that rounding's sign, which changed the pieces' vertex lists
+    # and flipped one quad's diagonal with the scale: 0.08 x obstructed_tol off at scale 1,
+    # 2.84 x at 0.1, 3e-3, 1e-3 and 1e6. Vertices within the split's tolerance of a plane now
+    # count as on it, and every scale gives the unit-scale pieces. The reference is checked
+    # against the integral over face 1 (another source, other kink lines) by reciprocity
     a, b, c = (np.array(p) for p in NEAR_TOUCHING_PAIR)
     free = nusselt.view_factor(a, b)
     reference = nusselt.view_factor(a, b, obstacles=[c], method="clipping", tol=1e-10)
+    area_a, area_b = nusselt.Scene.from_polygons([a, b]).areas
+    other_side = nusselt.view_factor(b, a, obstacles=[c], method="clipping", tol=1e-10) * area_b / area_a
+    assert abs(other_side - reference) <= 1e-12 * free, (other_side - reference) / free
     for s in (1e6, 1.0, 0.1, 3e-3, 1e-3, 1e-9):
         tight = nusselt.view_factor(s * a, s * b, obstacles=[s * c], method="clipping", tol=1e-12)
         assert abs(tight - reference) <= 1e-12 * free, s

@@ -6,7 +6,7 @@
 //! patch is cut along every such chord and the rule runs on each piece, weighted by its area
 //! (docs/algorithms.md §2.4).
 
-use crate::geometry::{clip_to_halfspace, plane_chord, Polygon, Vec3};
+use crate::geometry::{plane_chord, split_by_plane, Polygon, Vec3};
 
 /// Most pieces a source is cut into; further chords are left uncut.
 pub(crate) const MAX_SOURCE_PIECES: usize = 32;
@@ -21,7 +21,6 @@ pub(crate) fn source_pieces(scene: &[Polygon], i: usize) -> Vec<Vec<Vec3>> {
     let tol = 1e-9 * r;
     let mut pieces: Vec<Vec<Vec3>> = Vec::new();
     let mut cut = false;
-    let (mut lo, mut hi) = (Vec::new(), Vec::new());
     for (j, b) in scene.iter().enumerate() {
         let h = n.dot(b.centroid() - c);
         if j == i || h.abs() > b.radius() || b.centroid().distance(c) > r + b.radius() {
@@ -49,9 +48,7 @@ pub(crate) fn source_pieces(scene: &[Polygon], i: usize) -> Vec<Vec<Vec3>> {
                 continue;
             }
             cut = true;
-            clip_to_halfspace(piece, p, m, tol, &mut hi);
-            clip_to_halfspace(piece, p, -m, tol, &mut lo);
-            next.extend([&hi, &lo].into_iter().filter(|x| x.len() >= 3).cloned());
+            split_by_plane(piece, p, m, tol, &mut next);
         }
         pieces = next;
     }

@@ -2,7 +2,7 @@
 //! integration starts from cut pieces instead of chasing a kink by refinement.
 
 use super::rules::area3;
-use crate::geometry::{clip_to_halfspace, Polygon, Vec3};
+use crate::geometry::{crosses_plane, split_by_plane, Polygon, Vec3};
 
 /// Most pieces the kink split may cut a source into (the planes after it are not cut). At 64
 /// the planes of a blocker whose shadow lay inside another's spent it before the events that
@@ -34,28 +34,16 @@ pub(super) fn split_at_kinks(a: &Polygon, receiver: &Polygon, blockers: &[&Polyg
     let kinks = kink_planes(a, receiver, blockers);
     let v = a.vertices();
     let mut pieces: Vec<Vec<Vec3>> = a.triangulate().iter().map(|t| vec![v[t[0]], v[t[1]], v[t[2]]]).collect();
-    let (mut lo, mut hi) = (Vec::new(), Vec::new());
     for &(q, n) in &kinks.planes {
         if pieces.len() >= MAX_KINK_PIECES {
             break;
         }
         let mut next = Vec::with_capacity(pieces.len() + 4);
         for piece in pieces {
-            if !kinks.cuts(&piece, q, n) {
+            if crosses_plane(&piece, q, n, kinks.tol) {
+                split_by_plane(&piece, q, n, kinks.tol, &mut next);
+            } else {
                 next.push(piece);
-                continue;
-            }
-            // vertices within the tolerance of `cuts` count as on the plane: at 0, a vertex
-            // within rounding of it was classed by the rounding's sign, which changed the
-            // pieces' vertex lists, and so the diagonal their fans take, with the scene's
-            // scale (a pair 0.08 x obstructed_tol off at scale 1, 2.84 x scaled by 0.1 or
-            // 1e-3; `test_replay_scale_flipped_a_start_diagonal` in tests/test_properties.py)
-            clip_to_halfspace(&piece, q, n, kinks.tol, &mut hi);
-            clip_to_halfspace(&piece, q, -n, kinks.tol, &mut lo);
-            for part in [&hi, &lo] {
-                if part.len() >= 3 {
-                    next.push(part.clone());
-                }
             }
         }
         pieces = next;
@@ -76,18 +64,10 @@ fn fan_triangles(pieces: &[Vec<Vec3>], min_area: f64) -> Vec<[Vec3; 3]> {
 }
 
 /// The kink planes of a pair (see [`split_at_kinks`]), most important first, with the
-/// length tolerance under which a plane is taken not to cut a piece.
+/// length tolerance under which a vertex counts as on a plane (for the events and the cuts).
 struct Kinks {
     planes: Vec<(Vec3, Vec3)>,
     tol: f64,
-}
-
-impl Kinks {
-    /// True if the plane (point q, unit normal n) passes through the piece's interior.
-    fn cuts(&self, piece: &[Vec3], q: Vec3, n: Vec3) -> bool {
-        let side = |x: &Vec3| n.dot(*x - q);
-        piece.iter().any(|x| side(x) > self.tol) && piece.iter().any(|x| side(x) < -self.tol)
-    }
 }
 
 fn kink_planes(a: &Polygon, receiver: &Polygon, blockers: &[&Polygon]) -> Kinks {
@@ -225,8 +205,8 @@ mod tests {
 
     /// A source with a vertex 1e-6 above the receiver's plane and a blocker crossing both
     /// planes (found by the property tests): the split of the parts in front of each other
-    /// must give the same pieces at every scale, vertex for vertex; with an exact 0 as the clipping tolerance, scaled by 0.1 or
-    /// 1e-3 one quad's fan took the other diagonal.
+    /// must give the same pieces at every scale, vertex for vertex. Clipped with a tolerance
+    /// of 0, scaled by 0.1 or 1e-3 one quad's fan took the other diagonal.
     #[test]
     fn the_split_is_the_same_at_every_scale() {
         let raw = [

@@ -4,7 +4,7 @@
 
 use super::Estimate;
 use super::{MonteCarloOptions, QuadratureOptions};
-use crate::geometry::{clip_to_halfspace, Polygon, Vec3};
+use crate::geometry::{crosses_plane, split_by_plane, Polygon, Vec3};
 use crate::quadrature::AreaRule;
 use crate::sampling::{hash_seed, sobol4, PolygonSampler};
 use std::f64::consts::PI;
@@ -136,7 +136,6 @@ pub(super) const MAX_QUADRATURE_PIECES: usize = 8;
 pub(super) fn cut_at_blocker_planes(p: &Polygon, blockers: &[&Polygon]) -> Vec<Polygon> {
     let tol = 1e-9 * p.radius();
     let mut pieces = vec![p.vertices().to_vec()];
-    let (mut lo, mut hi) = (Vec::new(), Vec::new());
     for b in blockers {
         if pieces.len() >= MAX_QUADRATURE_PIECES {
             break;
@@ -144,14 +143,12 @@ pub(super) fn cut_at_blocker_planes(p: &Polygon, blockers: &[&Polygon]) -> Vec<P
         let (q, n) = (b.vertices()[0], b.normal());
         let mut next = Vec::with_capacity(pieces.len() + 1);
         for piece in pieces {
-            let side = |x: &Vec3| n.dot(*x - q);
-            if !(piece.iter().any(|x| side(x) > tol) && piece.iter().any(|x| side(x) < -tol)) {
+            if crosses_plane(&piece, q, n, tol) {
+                // still cut with 0, not `tol`: see split_by_plane (untested here at other scales)
+                split_by_plane(&piece, q, n, 0.0, &mut next);
+            } else {
                 next.push(piece);
-                continue;
             }
-            clip_to_halfspace(&piece, q, n, 0.0, &mut hi);
-            clip_to_halfspace(&piece, q, -n, 0.0, &mut lo);
-            next.extend([&hi, &lo].into_iter().filter(|v| v.len() >= 3).cloned());
         }
         pieces = next;
     }
