@@ -365,3 +365,57 @@ def test_obstructed_estimate_does_not_depend_on_the_origin(tol):
     ]
     gap = np.abs(F[0] - F[1])
     assert (gap <= 2 * tol * free + 1e-12).all(), np.max(gap / np.maximum(tol * free, 1e-300))
+
+
+def two_closed_rooms():
+    """Rooms [0, 0.9] and [1.1, 2] (x) of the box [0, 2] x [0, 1] x [0, 1], a solid partition
+    between them, every face looking into its room and cut in two along y (so that no tile of
+    the partition hides a pair alone). Returns the polygons and the room of each."""
+
+    def quad(axis, at, lo, hi, inward):
+        # rectangle in the plane x[axis] = at spanning lo..hi in the other two coordinates,
+        # its normal +-e_axis as `inward`
+        u, w = [k for k in range(3) if k != axis]
+        corners = [(lo[0], lo[1]), (hi[0], lo[1]), (hi[0], hi[1]), (lo[0], hi[1])]
+        pts = []
+        for a, b in corners:
+            p = [0.0, 0.0, 0.0]
+            p[axis], p[u], p[w] = at, a, b
+            pts.append(p)
+        pts = np.array(pts)
+        n = np.cross(pts[1] - pts[0], pts[2] - pts[0])
+        return pts if n[axis] * inward > 0 else pts[::-1].copy()
+
+    polys, room = [], []
+    for r, (x0, x1) in enumerate([(0.0, 0.9), (1.1, 2.0)]):
+        for y0, y1 in [(0.0, 0.5), (0.5, 1.0)]:
+            polys += [quad(2, 0.0, (x0, y0), (x1, y1), 1), quad(2, 1.0, (x0, y0), (x1, y1), -1)]
+            polys += [quad(0, x0, (y0, 0.0), (y1, 1.0), 1), quad(0, x1, (y0, 0.0), (y1, 1.0), -1)]
+        for y, inward in [(0.0, 1), (1.0, -1)]:
+            polys.append(quad(1, y, (x0, 0.0), (x1, 1.0), inward))
+        room += [r] * (len(polys) - len(room))
+    return polys, np.array(room)
+
+
+def test_rooms_behind_a_tiled_partition_see_nothing_of_each_other():
+    # Every floor, ceiling and side wall touches the partition's planes, so no plane separates a
+    # pair strictly and no single face hides it; the faces of the partition together hide every
+    # pair across it. Exactly 0 at the default (the joint test with its 1e-9 band) and by
+    # `clipping` at a tight tol (strict test and source integration); rows sum to 1 in each room.
+    polys, room = two_closed_rooms()
+    a, b = 0, int(np.nonzero(room == 1)[0][1])  # room 0's first floor tile, room 1's first ceiling tile
+    assert polys[a][:, 2].max() == 0.0 and polys[b][:, 2].min() == 1.0
+    # independent: a segment from room 0 (x < 0.9) to room 1 (x > 1.1) crosses x = 0.9 inside
+    # the partition's face (0 <= y, z <= 1) whenever both ends lie in the closed box
+    rng = np.random.default_rng(3)
+    x = rng.uniform([0, 0, 0], [0.9, 1, 1], (5000, 3))
+    y = rng.uniform([1.1, 0, 0], [2, 1, 1], (5000, 3))
+    c = x + (y - x) * ((0.9 - x[:, :1]) / (y[:, :1] - x[:, :1]))
+    assert np.all((c[:, 1:] >= 0) & (c[:, 1:] <= 1))
+    obs = [p for k, p in enumerate(polys) if k not in (a, b)]
+    assert nusselt.view_factor(polys[a], polys[b]) > 0.01
+    assert nusselt.view_factor(polys[a], polys[b], obstacles=obs) == 0.0
+    assert nusselt.view_factor(polys[a], polys[b], obstacles=obs, method="clipping", tol=1e-9) == 0.0
+    F = nusselt.form_factors(nusselt.Scene.from_polygons(polys)).matrix.toarray()
+    assert np.all(F[np.ix_(room == 0, room == 1)] == 0.0) and np.all(F[np.ix_(room == 1, room == 0)] == 0.0)
+    assert np.abs(F.sum(axis=1) - 1).max() < 1e-6

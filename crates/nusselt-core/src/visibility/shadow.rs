@@ -688,6 +688,222 @@ pub fn hides_whole(source: &[Vec3], target: &[Vec3], blocker: &Polygon) -> bool 
     })
 }
 
+/// True if the blockers together hide every point of the convex hull of `target` from every
+/// point of the convex hull of `source` (vertex lists), where no one of them alone need do so
+/// ([`hides_whole`]): a wall or slab meshed into tiles between two rooms, or a wall with an
+/// opening and, behind the opening, something that covers it.
+///
+/// A plane that holds blockers and strictly separates the two hulls is crossed by every
+/// segment between them inside the convex hull H of the crossings of the vertex-to-vertex
+/// segments (as in [`hides_whole`]: from a fixed point the crossings are a central projection
+/// of the other hull). Where the union U of the blockers in that plane covers H, grown a
+/// little, every segment is blocked. Where it leaves gaps, a segment through a gap is blocked
+/// if the rest of it, from the gap on, is: the convex hulls of the gaps become the sources for
+/// the next plane, up to three planes deep (following, at each depth, the plane that leaves
+/// the least open). The cover is tested with the robust 2-D boolean (H minus U, non-zero
+/// fill) in coordinates relative to H, so the answer does not depend on the scene's scale or
+/// position; what it leaves must be below 1e-12 of H's area (a crack narrower than the
+/// boolean's integer grid counts as closed).
+///
+/// `band` = 0: strict. The hulls must lie 1e-9 of their size off each plane and H is grown by
+/// 1e-9: a source or target touching a wall's plane (as every floor of a closed building
+/// touches its partitions) is never claimed hidden. `band` > 0: the segments within `band` of
+/// the size of an outline (source, target, gap) are not followed: each is shrunk by that much
+/// towards its centroid first, and H grown by 1e-12 only. In a closed model those segments
+/// run along the joints of the walls and are blocked anyway; where they are not, they carry
+/// at most about 10 x `band` of the unobstructed F.
+pub fn hides_whole_together(source: &[Vec3], target: &[Vec3], blockers: &[&Polygon], band: f64) -> bool {
+    if blockers.is_empty() || source.len() < 3 || target.is_empty() || !(band >= 0.0) {
+        return false;
+    }
+    let (mut lo, mut hi) = (Vec3::splat(f64::INFINITY), Vec3::splat(f64::NEG_INFINITY));
+    for v in source.iter().chain(target) {
+        lo = lo.min(*v);
+        hi = hi.max(*v);
+    }
+    let size = (hi - lo).length();
+    if !(size > 0.0) || !size.is_finite() {
+        return false;
+    }
+    let (margin, grow) = if band > 0.0 { (1e-12 * size, 1e-12) } else { (1e-9 * size, 1e-9) };
+    let portal = Portal { target: shrink(target, band), blockers, margin, grow, band };
+    portal.hidden_past_planes(&[shrink(source, band)], PORTAL_PLANES)
+}
+
+/// `v` shrunk by `band` of its size towards its vertex centroid.
+fn shrink(v: &[Vec3], band: f64) -> Vec<Vec3> {
+    let c = v.iter().copied().sum::<Vec3>() / v.len() as f64;
+    v.iter().map(|x| c + (*x - c) * (1.0 - band)).collect()
+}
+
+/// Most planes a segment is followed through by [`hides_whole_together`]; at most this many
+/// times the blockers' planes are each tried once.
+const PORTAL_PLANES: usize = 3;
+
+/// Most gaps one plane may leave for the next to close ([`hides_whole_together`]).
+const MAX_GAPS: usize = 16;
+
+/// What [`hides_whole_together`] follows the segments to: the target (shrunk), the blockers,
+/// the length under which a point counts as on a plane, how much H is grown, and the band.
+struct Portal<'a> {
+    target: Vec<Vec3>,
+    blockers: &'a [&'a Polygon],
+    margin: f64,
+    grow: f64,
+    band: f64,
+}
+
+impl Portal<'_> {
+    /// [`hides_whole_together`] from the convex `sources` (all on one side of each plane tried),
+    /// `planes` planes deep.
+    fn hidden_past_planes(&self, sources: &[Vec<Vec3>], planes: usize) -> bool {
+        let (target, blockers, margin) = (&self.target[..], self.blockers, self.margin);
+        if sources.is_empty() || sources.iter().any(|s| s.len() < 3) {
+            return false;
+        }
+        let mut tried = vec![false; blockers.len()];
+        // the plane leaving the least open so far: (open share, its gaps in 3-D)
+        let mut best: Option<(f64, Vec<Vec<Vec3>>)> = None;
+        for k in 0..blockers.len() {
+            if tried[k] {
+                continue;
+            }
+            let (q, n) = (blockers[k].vertices()[0], blockers[k].normal());
+            let height = |x: &Vec3| n.dot(*x - q);
+            // the blockers in k's plane (either facing), within 1e-9 of their own size
+            let members: Vec<usize> = (k..blockers.len())
+                .filter(|&m| {
+                    let b = blockers[m];
+                    let tol = 1e-9 * b.radius();
+                    b.normal().dot(n).abs() >= 1.0 - 1e-12 && b.vertices().iter().all(|v| height(v).abs() <= tol)
+                })
+                .collect();
+            for &m in &members {
+                tried[m] = true;
+            }
+            let side = height(&sources[0][0]);
+            let strictly = |x: &Vec3, s: f64| height(x) * s.signum() > margin;
+            if !sources.iter().flatten().all(|x| strictly(x, side)) || !target.iter().all(|y| strictly(y, -side)) {
+                continue;
+            }
+            let (tu, tv) = tangent_frame(n);
+            let hulls: Vec<Vec<[f64; 2]>> = sources
+                .iter()
+                .map(|src| {
+                    let mut crossings = Vec::with_capacity(src.len() * target.len());
+                    for x in src {
+                        for y in target {
+                            let (hx, hy) = (height(x), height(y));
+                            let c = *x + (*y - *x) * (hx / (hx - hy));
+                            crossings.push([c.dot(tu), c.dot(tv)]);
+                        }
+                    }
+                    convex_hull_2d(crossings)
+                })
+                .collect();
+            // coordinates relative to the hulls: centred, in units of their extent
+            let all: Vec<[f64; 2]> = hulls.iter().flatten().copied().collect();
+            let (hlo, hhi) = bbox(&all);
+            let centre = [0.5 * (hlo[0] + hhi[0]), 0.5 * (hlo[1] + hhi[1])];
+            let extent = (hhi[0] - hlo[0]).max(hhi[1] - hlo[1]);
+            if !(extent > 0.0) || !extent.is_finite() {
+                continue;
+            }
+            let rel = |u: [f64; 2]| [(u[0] - centre[0]) / extent, (u[1] - centre[1]) / extent];
+            let cover: Vec<Vec<[f64; 2]>> = members
+                .iter()
+                .map(|&m| {
+                    let mut c: Vec<[f64; 2]> =
+                        blockers[m].vertices().iter().map(|v| rel([v.dot(tu), v.dot(tv)])).collect();
+                    if signed_area(&c) < 0.0 {
+                        c.reverse();
+                    }
+                    c
+                })
+                .collect();
+            let (mut open, mut total) = (0.0, 0.0);
+            let mut gaps: Vec<Vec<[f64; 2]>> = Vec::new();
+            for hull in hulls.iter().filter(|h| h.len() >= 3) {
+                // grown by 1e-9 of its size about its own centre
+                let (lo, hi) = bbox(hull);
+                let c = [0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1])];
+                let grown: Vec<[f64; 2]> = hull
+                    .iter()
+                    .map(|u| rel([c[0] + (u[0] - c[0]) * (1.0 + self.grow), c[1] + (u[1] - c[1]) * (1.0 + self.grow)]))
+                    .collect();
+                total += signed_area(&grown).abs();
+                for shape in grown.overlay_as::<i64>(&cover, OverlayRule::Difference, FillRule::NonZero) {
+                    let area: f64 = shape.iter().map(|c| signed_area(c)).sum::<f64>().abs();
+                    open += area;
+                    if let Some(outer) = shape.first() {
+                        gaps.push(convex_hull_2d(outer.clone()));
+                    }
+                }
+            }
+            if !(total > 0.0) {
+                continue;
+            }
+            if open <= 1e-12 * total {
+                return true;
+            }
+            let share = open / total;
+            if planes > 1 && share < 1.0 - 1e-9 && gaps.len() <= MAX_GAPS && best.as_ref().is_none_or(|b| share < b.0) {
+                // the gaps back in 3-D, in the plane
+                let d = n.dot(q);
+                let lift = |u: &[f64; 2]| n * d + (u[0] * extent + centre[0]) * tu + (u[1] * extent + centre[1]) * tv;
+                let pieces: Vec<Vec<Vec3>> = gaps
+                    .iter()
+                    .filter(|g| g.len() >= 3)
+                    .map(|g| {
+                        let c =
+                            g.iter().fold([0.0, 0.0], |a, u| [a[0] + u[0], a[1] + u[1]]).map(|x| x / g.len() as f64);
+                        g.iter()
+                            .map(|u| {
+                                lift(&[
+                                    c[0] + (u[0] - c[0]) * (1.0 - self.band),
+                                    c[1] + (u[1] - c[1]) * (1.0 - self.band),
+                                ])
+                            })
+                            .collect()
+                    })
+                    .collect();
+                if !pieces.is_empty() {
+                    best = Some((share, pieces));
+                }
+            }
+        }
+        match best {
+            Some((_, pieces)) => self.hidden_past_planes(&pieces, planes - 1),
+            None => false,
+        }
+    }
+}
+
+/// The convex hull of 2-D points, counter-clockwise (Andrew's monotone chain; collinear
+/// points dropped).
+fn convex_hull_2d(mut pts: Vec<[f64; 2]>) -> Vec<[f64; 2]> {
+    pts.sort_by(|a, b| a[0].total_cmp(&b[0]).then(a[1].total_cmp(&b[1])));
+    pts.dedup();
+    if pts.len() < 3 {
+        return pts;
+    }
+    let cross = |o: [f64; 2], a: [f64; 2], b: [f64; 2]| (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]);
+    let mut hull: Vec<[f64; 2]> = Vec::with_capacity(2 * pts.len());
+    for pass in 0..2 {
+        let start = hull.len();
+        let it: Box<dyn Iterator<Item = &[f64; 2]>> =
+            if pass == 0 { Box::new(pts.iter()) } else { Box::new(pts.iter().rev()) };
+        for &p in it {
+            while hull.len() >= start + 2 && cross(hull[hull.len() - 2], hull[hull.len() - 1], p) <= 0.0 {
+                hull.pop();
+            }
+            hull.push(p);
+        }
+        hull.pop();
+    }
+    hull
+}
+
 /// Exact view factor from the differential area at `p` (unit normal `n`) to the part of
 /// `receiver` visible from it past `blockers` (opaque from both sides): Lambert's contour
 /// formula summed over the contours of [`visible_part`] (holes subtract). 0 when nothing is

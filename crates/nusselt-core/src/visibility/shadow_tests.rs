@@ -660,3 +660,107 @@ fn a_blocker_passing_just_above_the_point_hides_all_but_the_wedge() {
         assert!((f - exact).abs() <= 1e-6 * exact + 1e-15, "p {p}: {f:e} against {exact:e}");
     }
 }
+
+/// A wall at z = 1 meshed into 3 x 3 unit tiles between two unit squares: no tile alone hides
+/// the pair, the tiles together do (every random segment hits one of them). Without the
+/// centre tile, or with the tiles 1e-3 apart, segments pass and the answer is false; a plate
+/// behind the missing tile that catches every segment through the hole makes it true again.
+/// The answers are the same for the scene scaled by 1e-3 or 1e3 and moved.
+#[test]
+fn tiles_of_a_wall_hide_together_and_only_when_they_cover() {
+    let tiles = |gap: f64, skip: Option<(usize, usize)>, s: f64, off: f64| -> Vec<Polygon> {
+        let mut out = Vec::new();
+        for i in 0..3 {
+            for j in 0..3 {
+                if skip == Some((i, j)) {
+                    continue;
+                }
+                let (x0, y0) = (i as f64 - 1.0 + gap, j as f64 - 1.0 + gap);
+                let (x1, y1) = (i as f64 - gap, j as f64 - gap);
+                let v = [[x0, y0, 1.0], [x1, y0, 1.0], [x1, y1, 1.0], [x0, y1, 1.0]];
+                out.push(poly(&v.map(|p| p.map(|c| s * c + off))));
+            }
+        }
+        out
+    };
+    let square = |z: f64, s: f64, off: f64| -> Vec<Vec3> {
+        [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]]
+            .iter()
+            .map(|c| Vec3::new(s * (c[0] - 0.5) + off, s * (c[1] - 0.5) + off, s * z + off))
+            .collect()
+    };
+    let blocked_by = |src: &[Vec3], dst: &[Vec3], bl: &[Polygon], rng: &mut Rng| -> bool {
+        (0..2000).all(|_| {
+            let w = |v: &[Vec3], rng: &mut Rng| {
+                let (a, b) = (rng.f(), rng.f());
+                v[0] + a * (v[1] - v[0]) + b * (v[3] - v[0])
+            };
+            let (x, y) = (w(src, rng), w(dst, rng));
+            bl.iter().any(|b| ray_polygon(b, x, y - x).is_some_and(|t| t > 0.0 && t < 1.0))
+        })
+    };
+    let mut rng = Rng::new(11);
+    for (s, off) in [(1.0, 0.0), (1e-3, 7.0), (1e3, -5e3)] {
+        let (src, dst) = (square(0.0, s, off), square(2.0, s, off));
+        let whole = tiles(0.0, None, s, off);
+        let refs: Vec<&Polygon> = whole.iter().collect();
+        assert!(refs.iter().all(|b| !hides_whole(&src, &dst, b)));
+        assert!(hides_whole_together(&src, &dst, &refs, 0.0), "scale {s}");
+        if s == 1.0 {
+            assert!(blocked_by(&src, &dst, &whole, &mut rng));
+        }
+        for (gap, skip) in [(0.0, Some((1, 1))), (1e-3, None)] {
+            let open = tiles(gap, skip, s, off);
+            let refs: Vec<&Polygon> = open.iter().collect();
+            assert!(!hides_whole_together(&src, &dst, &refs, 0.0), "scale {s}, gap {gap}");
+            if s == 1.0 {
+                assert!(!blocked_by(&src, &dst, &open, &mut rng), "gap {gap}");
+            }
+        }
+        // the centre tile missing, and behind the hole a plate at z = 1.2: hidden if the plate
+        // catches every segment through the hole (it does from [-0.2, 1]^2 on; [0, 1]^2 lets
+        // some pass), which only following the segments through both planes shows
+        for (lo, covers) in [(-0.2, true), (0.0, false)] {
+            let mut two = tiles(0.0, Some((1, 1)), s, off);
+            let plate = [[lo, lo, 1.2], [1.0, lo, 1.2], [1.0, 1.0, 1.2], [lo, 1.0, 1.2]];
+            two.push(poly(&plate.map(|p| p.map(|c| s * c + off))));
+            let refs: Vec<&Polygon> = two.iter().collect();
+            assert!(refs.iter().all(|b| !hides_whole(&src, &dst, b)));
+            assert_eq!(hides_whole_together(&src, &dst, &refs, 0.0), covers, "scale {s}, plate from {lo}");
+            if s == 1.0 {
+                assert_eq!(blocked_by(&src, &dst, &two, &mut rng), covers, "plate from {lo}");
+            }
+        }
+        // a source reaching through the wall's plane: not claimed
+        let tall = [src[0], src[1], src[2] + Vec3::new(0.0, 0.0, 1.5 * s), src[3]];
+        assert!(!hides_whole_together(&tall, &dst, &tiles(0.0, None, s, off).iter().collect::<Vec<_>>(), 1e-9));
+    }
+}
+
+/// A floor and, past a partition tiled in two, the next room's ceiling: the floor's edge lies
+/// on the partition's plane (as in any closed model), so the strict test never claims the pair;
+/// with the band of 1e-9 it does, and every segment between interior points hits a tile. A
+/// partition ending below what the steepest segment needs lets some through: false either way.
+#[test]
+fn a_partition_touching_the_floor_hides_with_the_band() {
+    let floor = [[-1.0, 0.0, 0.0], [0.5, 0.0, 0.0], [0.5, 1.0, 0.0], [-1.0, 1.0, 0.0]].map(Vec3::from_array);
+    let ceiling = [[0.6, 0.0, 1.0], [0.6, 1.0, 1.0], [2.0, 1.0, 1.0], [2.0, 0.0, 1.0]].map(Vec3::from_array);
+    let tiles = |top: f64| {
+        let tile = |z0: f64, z1: f64| poly(&[[0.5, 0.0, z0], [0.5, 0.0, z1], [0.5, 1.0, z1], [0.5, 1.0, z0]]);
+        vec![tile(0.0, 0.5 * top), tile(0.5 * top, top)]
+    };
+    let mut rng = Rng::new(5);
+    for (top, hidden) in [(1.0, true), (0.9, false)] {
+        let wall = tiles(top);
+        let refs: Vec<&Polygon> = wall.iter().collect();
+        assert!(refs.iter().all(|b| !hides_whole(&floor, &ceiling, b)));
+        assert!(!hides_whole_together(&floor, &ceiling, &refs, 0.0), "top {top}");
+        assert_eq!(hides_whole_together(&floor, &ceiling, &refs, 1e-9), hidden, "top {top}");
+        let passes = (0..4000).any(|_| {
+            let w = |v: &[Vec3], rng: &mut Rng| v[0] + rng.f() * (v[1] - v[0]) + rng.f() * (v[3] - v[0]);
+            let (x, y) = (w(&floor, &mut rng), w(&ceiling, &mut rng));
+            !wall.iter().any(|b| ray_polygon(b, x, y - x).is_some_and(|t| t > 0.0 && t < 1.0))
+        });
+        assert_eq!(passes, !hidden, "top {top}");
+    }
+}
