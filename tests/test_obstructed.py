@@ -419,3 +419,24 @@ def test_rooms_behind_a_tiled_partition_see_nothing_of_each_other():
     F = nusselt.form_factors(nusselt.Scene.from_polygons(polys)).matrix.toarray()
     assert np.all(F[np.ix_(room == 0, room == 1)] == 0.0) and np.all(F[np.ix_(room == 1, room == 0)] == 0.0)
     assert np.abs(F.sum(axis=1) - 1).max() < 1e-6
+
+
+@pytest.mark.parametrize("method", EXACT_METHODS)
+def test_blockers_hidden_behind_another_change_nothing(method, blocked_plates_exact):
+    # Squares at z = 0.6 and 0.7 that the centred blocker at z = 0.5 hides from the whole
+    # emitter (segments from [0, 1]^2 at z = 0 to them cross z = 0.5 inside [0.25, 0.75]^2):
+    # they cast no shadow of their own, and the pair stays the blocked plates' exact value
+    # (the engine casts only the blockers that are not hidden behind the others).
+    behind = [rect(0.3, 0.7, 0.3, 0.7, z=0.6), rect(0.35, 0.65, 0.35, 0.65, z=0.7, flip=True)]
+    rng = np.random.default_rng(4)
+    x = np.c_[rng.uniform(0, 1, (4000, 2)), np.zeros(4000)]
+    for sq, z in zip(behind, (0.6, 0.7)):
+        p = np.c_[rng.uniform(sq[:, 0].min(), sq[:, 0].max(), (4000, 2)), np.full(4000, z)]
+        c = x + (p - x) * (0.5 / z)
+        assert np.all((c[:, :2] > 0.25) & (c[:, :2] < 0.75))
+    f = nusselt.view_factor(EMITTER, RECEIVER, obstacles=[BLOCKER, *behind], method=method)
+    assert f == pytest.approx(blocked_plates_exact, abs=1e-6)
+    tight = dict(tol=1e-10) if method == "clipping" else dict(obstructed_tol=1e-10)
+    alone = nusselt.view_factor(EMITTER, RECEIVER, obstacles=[BLOCKER], method=method, **tight)
+    both = nusselt.view_factor(EMITTER, RECEIVER, obstacles=[BLOCKER, *behind], method=method, **tight)
+    assert both == pytest.approx(alone, abs=1e-10)
