@@ -717,3 +717,25 @@ def test_replay_default_tol_misses_of_seeds_24_and_25():
         f = nusselt.view_factor(p[i], p[j], obstacles=others)
         misses.append(abs(f - ref) / (DEFAULT_OBSTRUCTED_TOL * free))
     assert max(misses) <= 1.0, misses
+
+
+@pytest.mark.xfail(strict=True, reason="open: a default-tol miss of the error estimate in one direction")
+def test_replay_default_tol_miss_of_seed_26():
+    # found by the long run with NUSSELT_HYPOTHESIS_SEED=26 (after the joint hidden test and the
+    # casting blockers; the build before them gives the same numbers): in the free scene F[3, 1]
+    # with faces 0 and 2 between is computed from face 1's side, 0.0170747514 at the default,
+    # against 0.0170758953 at obstructed_tol 1e-8 .. 1e-10 from either side: 64 x tol x F_free,
+    # so the obstacle of that case "raised" F by 32 x the slack. Face 3's side at the default is
+    # within 0.03 x tol
+    raw = [
+        [[0.0, 0.0, 0.0], [0.0, 0.0, -1.0], [1.0, 0.0, 0.0]],
+        [[0.0, 0.0, -0.75], [-0.9765625, 0.6875, 0.625], [0.0, -0.283203125, 0.0]],
+        [[0.0, 0.0, -0.984375], [0.0, -1.0, 0.0], [-0.09436022758029039, -0.1328125, 0.8125]],
+        [[0.0, -0.53125, 0.25], [0.7109375, 0.0, 0.8203125], [0.58984375, 0.84375, 0.53125]],
+    ]
+    p = [np.array(v) for v in raw]
+    others = [p[0], p[2]]
+    free = nusselt.view_factor(p[1], p[3])
+    ref = nusselt.view_factor(p[1], p[3], obstacles=others, method="clipping", tol=1e-10)
+    f = nusselt.view_factor(p[1], p[3], obstacles=others)
+    assert abs(f - ref) <= DEFAULT_OBSTRUCTED_TOL * free, abs(f - ref) / (DEFAULT_OBSTRUCTED_TOL * free)
