@@ -10,16 +10,16 @@ use crate::unobstructed::analytic::{point_polygon, polygon_pair_within};
 use crate::visibility::shadow::point_shadowed_and_free;
 
 /// G = A_a F_ab of a pair by `clipping`, given its candidate `blockers` (none hides it whole),
-/// those of them that cast a shadow of their own (`casting`: a blocker that the others hide
-/// from the whole source hides nothing they do not), the parts `sa`, `sb` of a and b in front
-/// of each other and its unobstructed G `free`.
+/// the indices of those of them that cast a shadow of their own (`casting`: a blocker that the
+/// others hide from the whole source hides nothing they do not), the parts `sa`, `sb` of a and
+/// b in front of each other and its unobstructed G `free`.
 pub(super) fn pair(
     a: &Polygon,
     b: &Polygon,
     sa: &Polygon,
     sb: &Polygon,
     blockers: &[&Polygon],
-    casting: &[&Polygon],
+    casting: &[usize],
     free: f64,
     o: &ClippingOptions,
 ) -> Estimate {
@@ -77,8 +77,9 @@ pub(super) fn pair(
             // the point F. Exact for pairs fully hidden or not hidden at all; a touching
             // pair's steep kernel cancels in the ratio.
             let (mut vis, mut all) = (0.0, 0.0);
+            let casting: Vec<&Polygon> = casting.iter().map(|&k| blockers[k]).collect();
             for (x, w) in source_points(sa, k) {
-                let (f_hidden, f_free) = point_shadowed_and_free(x, a.normal(), b, casting, true);
+                let (f_hidden, f_free) = point_shadowed_and_free(x, a.normal(), b, &casting, true);
                 let f_free = f_free.unwrap_or(0.0);
                 vis += w * (f_free - f_hidden);
                 all += w * f_free;
@@ -94,7 +95,7 @@ pub(super) fn pair(
 fn hidden_over(
     side: (&Polygon, &Polygon, &Polygon, &Polygon),
     blockers: &[&Polygon],
-    casting: &[&Polygon],
+    casting: &[usize],
     goal: f64,
     o: &ClippingOptions,
 ) -> (f64, f64) {
@@ -104,15 +105,11 @@ fn hidden_over(
     // a piece's own unobstructed G, for the pieces that integrate the visible F
     let piece_free =
         |t: &[Vec3; 3], tol: f64| Polygon::new(t.to_vec()).ok().map(|p| polygon_pair_within(&p, rec_part, tol));
-    let cut_all = cut_to_slab(src, rec, blockers);
-    let all: Vec<&Polygon> = blockers.iter().zip(&cut_all).map(|(b, c)| c.as_ref().unwrap_or(b)).collect();
-    let cut = if casting.len() < blockers.len() { cut_to_slab(src, rec, casting) } else { Vec::new() };
-    let casters: Vec<&Polygon> = if casting.len() < blockers.len() {
-        casting.iter().zip(&cut).map(|(b, c)| c.as_ref().unwrap_or(b)).collect()
-    } else {
-        all.clone()
-    };
-    let test = ShadowTest::new(rec_part, casting);
+    let cut = cut_to_slab(src, rec, blockers);
+    let all: Vec<&Polygon> = blockers.iter().zip(&cut).map(|(b, c)| c.as_ref().unwrap_or(b)).collect();
+    let casters: Vec<&Polygon> = casting.iter().map(|&k| all[k]).collect();
+    let casting: Vec<&Polygon> = casting.iter().map(|&k| blockers[k]).collect();
+    let test = ShadowTest::new(rec_part, &casting);
     // the receiver's part in front of the source has kinks of its own (see split_at_kinks);
     // so do the blockers as cut to the slab, which cast the shadows: where a blocker crosses
     // a plane its cut has new vertices and an edge along it, and their events are kinks
@@ -123,7 +120,7 @@ fn hidden_over(
     let start = split_at_kinks(src_part, rec_part, &all);
     let free_point = |x: Vec3| point_polygon(x, src.normal(), rec.vertices());
     let integrand = Integrand { point: &point, free_point: &free_point, piece_free: &piece_free };
-    adaptive_over_source(&start, casting, &integrand, &casters, &test, goal, o)
+    adaptive_over_source(&start, &casting, &integrand, &casters, &test, goal, o)
 }
 
 /// How far the blockers keep from the plane of `p`, relative to p's size: the least height of
@@ -616,6 +613,11 @@ mod tests {
         raw.iter().map(|p| Polygon::new(p.iter().map(|&v| Vec3::from_array(v)).collect()).unwrap()).collect()
     }
 
+    /// Every index of `blockers`: all of them cast.
+    fn every<T>(blockers: &[T]) -> Vec<usize> {
+        (0..blockers.len()).collect()
+    }
+
     /// `auto`'s default `tol`: the unobstructed G of a pair nobody computed for it.
     fn auto_tol() -> f64 {
         method::Options::default().tol
@@ -910,10 +912,10 @@ mod tests {
         assert!(clearance(f3, &both) < clearance(f4, &both));
         let o = ClippingOptions { tol: 1e-6, ..Default::default() };
         let goal = o.tol * free;
-        let (_, err4) = hidden_over((f4, f3, f4, f3), &both, &both, goal, &o);
+        let (_, err4) = hidden_over((f4, f3, f4, f3), &both, &[0, 1], goal, &o);
         assert!(err4 > 10.0 * goal, "over face 4: error estimate {:.2e} x the goal", err4 / goal);
         let tight = ClippingOptions { tol: 1e-10, max_evals: 2_000_000, ..o };
-        let (hidden, _) = hidden_over((f3, f4, f3, f4), &both, &both, 1e-10 * free, &tight);
+        let (hidden, _) = hidden_over((f3, f4, f3, f4), &both, &[0, 1], 1e-10 * free, &tight);
         let reference = free - hidden;
         let alone = clipping(&polys[..3], 2, 1, &tight, 1e-12);
         assert!(reference <= alone + 1e-10 * free);
@@ -941,7 +943,8 @@ mod tests {
         let reference = 4.9396e-9 * polys[0].area();
         let o = ClippingOptions { tol: 1e-9, ..Default::default() };
         let rest: Vec<&Polygon> = polys[2..].iter().collect();
-        let (h2, e2) = hidden_over((&polys[0], &polys[1], &polys[0], &polys[1]), &rest, &rest, o.tol * free, &o);
+        let (h2, e2) =
+            hidden_over((&polys[0], &polys[1], &polys[0], &polys[1]), &rest, &every(&rest), o.tol * free, &o);
         assert!((free - h2 - reference).abs() > 1e3 * e2, "face 2's side no longer claims it hidden");
         let g = clipping(&polys, 0, 1, &o, 1e-13);
         assert!((g - reference).abs() <= o.tol * free, "{:.2e} x tol", (g - reference) / (o.tol * free));
@@ -995,8 +998,8 @@ mod tests {
         assert!(c3 < c4 && c4 < BOTH_SIDES_CLEARANCE, "clearances {c3:e}, {c4:e}");
         let o = ClippingOptions { tol: 1e-6, ..Default::default() };
         let goal = o.tol * free;
-        let (over4, err4) = hidden_over((f4, f3, f4, f3), &all, &all, goal, &o);
-        let (over3, _) = hidden_over((f3, f4, f3, f4), &all, &all, goal, &o);
+        let (over4, err4) = hidden_over((f4, f3, f4, f3), &all, &every(&all), goal, &o);
+        let (over3, _) = hidden_over((f3, f4, f3, f4), &all, &every(&all), goal, &o);
         assert!(err4 <= goal && over3 - over4 > 2.0 * goal, "face 4 misses {:.2e} x the goal", (over3 - over4) / goal);
         let tight = ClippingOptions { tol: 1e-10, max_evals: 2_000_000, ..o };
         let without = clipping(&polys[..4], 3, 2, &tight, 1e-12);

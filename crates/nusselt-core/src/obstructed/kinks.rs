@@ -275,18 +275,7 @@ mod tests {
     /// source along it; no other event plane holds both.
     #[test]
     fn a_vertex_of_one_blocker_and_an_edge_of_another_make_a_kink() {
-        let square = |x0: f64, y0: f64, w: f64, z: f64, up: bool| {
-            let mut v = vec![
-                Vec3::new(x0, y0, z),
-                Vec3::new(x0 + w, y0, z),
-                Vec3::new(x0 + w, y0 + w, z),
-                Vec3::new(x0, y0 + w, z),
-            ];
-            if !up {
-                v.reverse();
-            }
-            Polygon::new(v).unwrap()
-        };
+        use crate::unobstructed::far_field::tests::square;
         let (src, rec) = (square(-0.5, -0.5, 1.0, 0.0, true), square(-0.5, -0.5, 1.0, 1.0, false));
         let (low, high) = (square(-0.25, -0.1, 0.2, 0.3, true), square(0.05, -0.05, 0.2, 0.6, true));
         let kinks = kink_planes(&src, &rec, &[&low, &high]);

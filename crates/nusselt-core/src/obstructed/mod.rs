@@ -126,10 +126,8 @@ pub fn pair_with(ctx: &Context, i: usize, j: usize, m: &Estimator, known: Known)
         });
     }
     let blockers = ctx.blockers(&cand);
-    // hidden whole by one blocker, or by several together (see hidden_band)
-    if blockers.iter().any(|k| hides_whole(sa.vertices(), sb.vertices(), k))
-        || hides_whole_together(sa.vertices(), sb.vertices(), &blockers, hidden_band(m))
-    {
+    let band = hidden_band(m);
+    if hidden_whole(sa.vertices(), sb.vertices(), &blockers, band) {
         return Ok(Estimate::exact(0.0));
     }
     let visible = |x: Vec3, y: Vec3| !ctx.vis.occluded(x, y, &ignore);
@@ -156,7 +154,7 @@ pub fn pair_with(ctx: &Context, i: usize, j: usize, m: &Estimator, known: Known)
             Estimate::exact(over_source(sa, sb, &blockers, o.source, f))
         }
         Estimator::Clipping(o) => {
-            let casting = casting(sa, &blockers, hidden_band(m));
+            let casting = casting(sa, &blockers, band);
             clipping::pair(a, b, sa, sb, &blockers, &casting, exact()?, &o)
         }
     })
@@ -178,29 +176,33 @@ fn hidden_band(m: &Estimator) -> f64 {
     }
 }
 
-/// The blockers that cast a shadow of their own from the source part `sa`: those that the
-/// others still kept do not hide from all of it ([`hides_whole`], [`hides_whole_together`]
-/// with `band`). A blocker hidden from the whole source hides nothing from any point of it
-/// (nor from the receiver's side: each segment through it meets the others between the source
-/// and it) that the others do not, so its shadow adds nothing to theirs; every blocker so
-/// dropped leaves its shadow to one that stays. From 3 blockers on (the test costs a few
-/// boolean operations per blocker): the far faces of partitions, the treads behind a step. In
-/// the 391-surface building at obstructed_tol 1e-3 18.2 -> 15.3 s of one core's CPU, the
-/// largest row error the same (2.093e-4).
-fn casting<'a>(sa: &Polygon, blockers: &[&'a Polygon], band: f64) -> Vec<&'a Polygon> {
+/// True if the blockers hide all of `target` from all of `source` (vertex lists): one of them
+/// alone ([`hides_whole`]) or several together ([`hides_whole_together`] with `band`, see
+/// [`hidden_band`]).
+fn hidden_whole(source: &[Vec3], target: &[Vec3], blockers: &[&Polygon], band: f64) -> bool {
+    blockers.iter().any(|k| hides_whole(source, target, k)) || hides_whole_together(source, target, blockers, band)
+}
+
+/// The indices of the blockers that cast a shadow of their own from the source part `sa`:
+/// those that the others still kept do not hide from all of it ([`hidden_whole`]). A blocker
+/// hidden from the whole source hides nothing from any point of it (nor from the receiver's
+/// side: each segment through it meets the others between the source and it) that the others
+/// do not, so its shadow adds nothing to theirs; every blocker so dropped leaves its shadow to
+/// one that stays. From 3 blockers on (the test costs a few boolean operations per blocker):
+/// the far faces of partitions, the treads behind a step. In the 391-surface building at
+/// obstructed_tol 1e-3 18.2 -> 15.3 s of one core's CPU, the largest row error the same
+/// (2.093e-4).
+fn casting(sa: &Polygon, blockers: &[&Polygon], band: f64) -> Vec<usize> {
     let mut keep = vec![true; blockers.len()];
     if blockers.len() >= 3 {
         let mut others = Vec::with_capacity(blockers.len());
         for k in 0..blockers.len() {
             others.clear();
             others.extend((0..blockers.len()).filter(|&q| q != k && keep[q]).map(|q| blockers[q]));
-            let src = sa.vertices();
-            let target = blockers[k].vertices();
-            keep[k] = !(others.iter().any(|o| hides_whole(src, target, o))
-                || hides_whole_together(src, target, &others, band));
+            keep[k] = !hidden_whole(sa.vertices(), blockers[k].vertices(), &others, band);
         }
     }
-    blockers.iter().zip(keep).filter(|(_, k)| *k).map(|(b, _)| *b).collect()
+    (0..blockers.len()).filter(|&k| keep[k]).collect()
 }
 
 /// The least relative `clipping` target for which [`hidden_band`] lets the joints' band go.

@@ -836,7 +836,7 @@ impl Portal<'_> {
                     let area: f64 = shape.iter().map(|c| signed_area(c)).sum::<f64>().abs();
                     open += area;
                     if let Some(outer) = shape.first() {
-                        gaps.push(convex_hull_2d(outer.clone()));
+                        gaps.push(convex_hull_2d(outer.to_vec()));
                     }
                 }
             }
@@ -855,16 +855,11 @@ impl Portal<'_> {
                     .iter()
                     .filter(|g| g.len() >= 3)
                     .map(|g| {
+                        // shrunk in the plane's coordinates (as the hulls were computed)
                         let c =
                             g.iter().fold([0.0, 0.0], |a, u| [a[0] + u[0], a[1] + u[1]]).map(|x| x / g.len() as f64);
-                        g.iter()
-                            .map(|u| {
-                                lift(&[
-                                    c[0] + (u[0] - c[0]) * (1.0 - self.band),
-                                    c[1] + (u[1] - c[1]) * (1.0 - self.band),
-                                ])
-                            })
-                            .collect()
+                        let keep = 1.0 - self.band;
+                        g.iter().map(|u| lift(&[c[0] + (u[0] - c[0]) * keep, c[1] + (u[1] - c[1]) * keep])).collect()
                     })
                     .collect();
                 if !pieces.is_empty() {
@@ -887,20 +882,20 @@ fn convex_hull_2d(mut pts: Vec<[f64; 2]>) -> Vec<[f64; 2]> {
     if pts.len() < 3 {
         return pts;
     }
-    let cross = |o: [f64; 2], a: [f64; 2], b: [f64; 2]| (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]);
+    // the lower chain left to right, then the upper one back, each without its last point
     let mut hull: Vec<[f64; 2]> = Vec::with_capacity(2 * pts.len());
-    for pass in 0..2 {
+    let chain = |hull: &mut Vec<[f64; 2]>, points: &mut dyn Iterator<Item = &[f64; 2]>| {
         let start = hull.len();
-        let it: Box<dyn Iterator<Item = &[f64; 2]>> =
-            if pass == 0 { Box::new(pts.iter()) } else { Box::new(pts.iter().rev()) };
-        for &p in it {
-            while hull.len() >= start + 2 && cross(hull[hull.len() - 2], hull[hull.len() - 1], p) <= 0.0 {
+        for &p in points {
+            while hull.len() >= start + 2 && orient(hull[hull.len() - 2], hull[hull.len() - 1], p) <= 0.0 {
                 hull.pop();
             }
             hull.push(p);
         }
         hull.pop();
-    }
+    };
+    chain(&mut hull, &mut pts.iter());
+    chain(&mut hull, &mut pts.iter().rev());
     hull
 }
 
