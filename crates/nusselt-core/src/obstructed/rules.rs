@@ -31,7 +31,8 @@ pub(super) fn area_source_points(
     if let Some(k) = k {
         return source_points(a, k);
     }
-    let pieces = split_at_kinks(a, b, blockers);
+    let every: Vec<usize> = (0..blockers.len()).collect();
+    let pieces = split_at_kinks(a, b, blockers, &every);
     // largest first by area relative to the source, rounded so that equal pieces keep their
     // order in any units (the sort is stable); slivers below 1e-6 of the source, whose count
     // may change with the units' rounding, do not count against the cap
