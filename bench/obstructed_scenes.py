@@ -1,7 +1,9 @@
 """Accuracy versus CPU time of the obstructed path on the scenes of bench/scenes.py.
 
 Each run prints the scene, the options, CPU time of the computation (user + sys of this
-process, so run with RAYON_NUM_THREADS=1 for one core's CPU), wall time, and the accuracy
+process, so run with RAYON_NUM_THREADS=1 for one core's CPU), wall time, the work units spent
+(point evaluations times the blockers they cast, ray tests, ...: the same on a busy machine as
+on an idle one, so two builds compare by them when CPU times are noisy), and the accuracy
 against the scene's reference:
 - building, office (closed): max |row sum - 1| (and reciprocity);
 - blocked cylinder: |F(inner -> sphere) - (1 - F(inner -> outer))| and inner row sums;
@@ -38,9 +40,9 @@ def cpu() -> float:
 
 def run(spec: scenes.Spec, method: str, opts: dict):
     scene = spec.scene()
-    c0, t0 = cpu(), time.perf_counter()
+    c0, t0, u0 = cpu(), time.perf_counter(), nusselt._core.work_units()
     res = nusselt.form_factors(scene, method=method, **opts)
-    return scene, res, cpu() - c0, time.perf_counter() - t0
+    return scene, res, cpu() - c0, time.perf_counter() - t0, nusselt._core.work_units() - u0
 
 
 def dense(res):
@@ -96,11 +98,11 @@ def main() -> None:
         spec = scenes.blocker_plates(n, triangles=a.triangles)
     else:
         spec = scenes.urban(a.k)
-    scene, res, c, w = run(spec, a.method, opts)
+    scene, res, c, w, units = run(spec, a.method, opts)
     F = dense(res)
     recv = np.asarray(res.receivers) if hasattr(res, "receivers") else scene.receivers
     threads = os.environ.get("RAYON_NUM_THREADS", "all")
-    head = f"{spec.name} ({len(scene)} polygons) {a.method} {opts or 'default'} threads={threads}: cpu {c:.2f} s, wall {w:.2f} s"
+    head = f"{spec.name} ({len(scene)} polygons) {a.method} {opts or 'default'} threads={threads}: cpu {c:.2f} s, wall {w:.2f} s, {units / 1e6:.2f} M work units"
     rows = F.sum(axis=1)
     if spec.closed:
         print(f"{head}; max |row sum - 1| = {np.abs(rows - 1).max():.2e}, reciprocity {res.reciprocity_error:.1e}")

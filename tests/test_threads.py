@@ -47,3 +47,29 @@ def test_results_do_not_depend_on_the_pool_size(tmp_path):
         path = tmp_path / f"f{n}.npy"
         subprocess.run([sys.executable, "-c", script, str(path)], env={**env, "RAYON_NUM_THREADS": n}, check=True)
         assert np.array_equal(np.load(path), here), n
+
+
+WORK = """
+import nusselt
+def sq(z, s, up):
+    v = [[0.5 - s, 0.5 - s, z], [0.5 + s, 0.5 - s, z], [0.5 + s, 0.5 + s, z], [0.5 - s, 0.5 + s, z]]
+    return v if up else v[::-1]
+polys = [sq(0, 0.5, True), sq(1, 0.5, False), sq(0.5, 0.2, True)]
+scene = nusselt.Scene.from_polygons(polys, obstruction=[False, False, True])
+u = nusselt._core.work_units(); nusselt.form_factors(scene)
+v = nusselt._core.work_units(); nusselt.form_factors(scene)
+print(v - u, nusselt._core.work_units() - v)
+"""
+
+
+def test_work_units_count_the_same_work_alike():
+    # the counter benchmarks use instead of noisy CPU times: the same computation spends the
+    # same units, again and on one thread or two, and plates with a blocker between spend some
+    clean = {k: v for k, v in os.environ.items() if k not in ("NUSSELT_NUM_THREADS", "RAYON_NUM_THREADS")}
+    counts = []
+    for n in ("1", "2"):
+        env = {**clean, "RAYON_NUM_THREADS": n}
+        out = subprocess.run([sys.executable, "-c", WORK], env=env, capture_output=True, text=True, check=True)
+        counts.extend(int(x) for x in out.stdout.split())
+    assert counts[0] > 0
+    assert len(set(counts)) == 1, counts

@@ -17,6 +17,7 @@ __all__ = [
     "view_factor",
     "point_view_factor",
     "num_threads",
+    "work_units",
     "_panic_guard_selftest",
 ]
 
@@ -147,4 +148,5 @@ def methods() -> list[dict[str, Any]]:
     keywords, doc}]}."""
 
 def num_threads() -> int: ...
+def work_units() -> int: ...
 def _panic_guard_selftest() -> None: ...

@@ -19,10 +19,20 @@
 
 use crate::error::{Error, Result};
 use std::cell::Cell;
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 
 /// Set to stop every running computation of the process (Ctrl-C).
 pub static CANCEL: AtomicBool = AtomicBool::new(false);
+
+/// Units spent by every metered pair or row this process has finished (see [`units_done`]).
+static DONE: AtomicU64 = AtomicU64::new(0);
+
+/// The work units spent by every metered pair or row this process has finished, on any thread:
+/// a measure of cost that, unlike CPU time, does not depend on what else the machine runs
+/// (benchmarks print its difference around a run).
+pub fn units_done() -> u64 {
+    DONE.load(Ordering::Relaxed)
+}
 
 /// Default budget per pair or row: 2^27 units (about 25-150 s of one core: 0.9e6-5.7e6 units/s measured by
 /// `bench/methods.py budget`, docs/guide.md; every method at its default options stays far below it).
@@ -66,6 +76,7 @@ pub fn go_on() -> bool {
 /// result must then be discarded); resets the meter to unlimited.
 pub fn end(what: impl FnOnce() -> String) -> Result<()> {
     let (spent, budget) = METER.with(|m| m.replace((0, u64::MAX)));
+    DONE.fetch_add(spent, Ordering::Relaxed);
     if cancelled() {
         return Err(Error::Cancelled);
     }
@@ -114,5 +125,13 @@ mod tests {
     #[test]
     fn within_budget_returns_the_value() {
         assert!(metered(10, String::new, || Ok(spend(10))).unwrap());
+    }
+
+    #[test]
+    fn finished_work_is_counted() {
+        // (other tests run metered work on other threads: the count only grows)
+        let before = units_done();
+        metered(100, String::new, || Ok(spend(7) && spend(5))).unwrap();
+        assert!(units_done() >= before + 12);
     }
 }

@@ -22,6 +22,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(pair::view_factor, m)?)?;
     m.add_function(wrap_pyfunction!(pair::point_view_factor, m)?)?;
     m.add_function(wrap_pyfunction!(threads::num_threads, m)?)?;
+    m.add_function(wrap_pyfunction!(threads::work_units, m)?)?;
     m.add_function(wrap_pyfunction!(_panic_guard_selftest, m)?)?;
     Ok(())
 }

@@ -20,6 +20,13 @@ pub fn num_threads() -> usize {
     pool().current_num_threads()
 }
 
+/// Work units spent by every pair or row this process has computed (see
+/// `nusselt_core::work::units_done`): benchmarks print its difference around a run.
+#[pyfunction]
+pub fn work_units() -> u64 {
+    nusselt_core::work::units_done()
+}
+
 /// The pool of this process (rebuilt after a fork, detected by the process id).
 pub fn pool() -> Arc<rayon::ThreadPool> {
     let pid = std::process::id();
