@@ -117,7 +117,8 @@ fn hidden_over(
     // (the seed-24 pair listed from another vertex: 2.86 -> 0.79 x tol at the default,
     // tests/test_properties.py). The kinks are those of all the blockers: the start pieces
     // of the casting ones alone were coarser, and the error estimate on them missed (1.7 x
-    // tol on one pair of the building at obstructed_tol 1e-3, 0.015 x with all).
+    // tol on one pair of the building at obstructed_tol 1e-3, 0.015 x with all); the casting
+    // ones' events come first (see split_at_kinks).
     let start = split_at_kinks(src_part, rec_part, &all, casting_ids);
     let free_point = |x: Vec3| point_polygon(x, src.normal(), rec.vertices());
     let integrand = Integrand { point: &point, free_point: &free_point, piece_free: &piece_free };
