@@ -739,3 +739,28 @@ def test_replay_default_tol_miss_of_seed_26():
     ref = nusselt.view_factor(p[1], p[3], obstacles=others, method="clipping", tol=1e-10)
     f = nusselt.view_factor(p[1], p[3], obstacles=others)
     assert abs(f - ref) <= DEFAULT_OBSTRUCTED_TOL * free, abs(f - ref) / (DEFAULT_OBSTRUCTED_TOL * free)
+
+
+@pytest.mark.xfail(strict=True, reason="open: one side of a pair converges to a value 2.6e-6 x F_free off")
+def test_replay_seed_27_one_side_converges_off():
+    # found by the long run with NUSSELT_HYPOTHESIS_SEED=27 (the build before this session gives
+    # the same numbers) as "an obstacle raises F[4, 3] by 1.32 x the slack": in the free scene
+    # the pair (3, 4) with faces 0-2 between is integrated over face 3, which gives
+    # 0.0163889434 x A_4 / A_3 at obstructed_tol 1e-8 .. 1e-11 alike (its estimate content),
+    # while face 4's side converges to 0.0163888179 and an independent centroid rule of the
+    # exact point F over face 4 (4^6, 4^7 triangles, Richardson) gives 0.016388821
+    raw = [
+        [[0.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, 1.0, 0.0]],
+        [[0.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.125, 0.0, -1.0]],
+        [[0.0, 0.0, 0.0], [0.0, -1.0, -1.0], [-1.0, 0.0, 0.0]],
+        [[0.0, 1.0, 0.0], [0.0, 0.0, -1.0], [1.0, 0.0, 0.0]],
+        [[0.0, -0.75, 0.0], [0.0, -1.0, 0.0], [-1.0, 0.0, 0.0]],
+    ]
+    p = [np.array(v) for v in raw]
+    others = p[:3]
+    free = nusselt.view_factor(p[4], p[3])
+    reference = nusselt.view_factor(p[4], p[3], obstacles=others, method="clipping", tol=1e-10)
+    assert abs(reference - 0.016388821) <= 1e-8
+    for tol in (DEFAULT_OBSTRUCTED_TOL, 1e-10):
+        f = nusselt.view_factor(p[3], p[4], obstacles=others, method="clipping", tol=tol) * area(p[3]) / area(p[4])
+        assert abs(f - reference) <= tol * free, (tol, (f - reference) / (tol * free))
