@@ -13,8 +13,13 @@ from nusselt.data import cornell_box
 PROBE = "import nusselt._core as c; print(c.num_threads())"
 
 
+def _clean_env() -> dict[str, str]:
+    """This environment without the pool-size variables."""
+    return {k: v for k, v in os.environ.items() if k not in ("NUSSELT_NUM_THREADS", "RAYON_NUM_THREADS")}
+
+
 def _pool_size(**env):
-    clean = {k: v for k, v in os.environ.items() if k not in ("NUSSELT_NUM_THREADS", "RAYON_NUM_THREADS")}
+    clean = _clean_env()
     out = subprocess.run(
         [sys.executable, "-c", PROBE], env={**clean, **env}, capture_output=True, text=True, check=True
     )
@@ -65,7 +70,7 @@ print(v - u, nusselt._core.work_units() - v)
 def test_work_units_count_the_same_work_alike():
     # the counter benchmarks use instead of noisy CPU times: the same computation spends the
     # same units, again and on one thread or two, and plates with a blocker between spend some
-    clean = {k: v for k, v in os.environ.items() if k not in ("NUSSELT_NUM_THREADS", "RAYON_NUM_THREADS")}
+    clean = _clean_env()
     counts = []
     for n in ("1", "2"):
         env = {**clean, "RAYON_NUM_THREADS": n}

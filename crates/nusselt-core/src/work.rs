@@ -24,10 +24,11 @@ use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 /// Set to stop every running computation of the process (Ctrl-C).
 pub static CANCEL: AtomicBool = AtomicBool::new(false);
 
-/// Units spent by every metered pair or row this process has finished (see [`units_done`]).
+/// Units spent by every metered pair or row this process has ended (see [`units_done`]).
 static DONE: AtomicU64 = AtomicU64::new(0);
 
-/// The work units spent by every metered pair or row this process has finished, on any thread:
+/// The work units spent by every metered pair or row this process has ended (finished,
+/// cancelled or over budget), on any thread:
 /// a measure of cost that, unlike CPU time, does not depend on what else the machine runs
 /// (benchmarks print its difference around a run).
 pub fn units_done() -> u64 {

@@ -107,10 +107,9 @@ fn hidden_over(
         |t: &[Vec3; 3], tol: f64| Polygon::new(t.to_vec()).ok().map(|p| polygon_pair_within(&p, rec_part, tol));
     let cut = cut_to_slab(src, rec, blockers);
     let all: Vec<&Polygon> = blockers.iter().zip(&cut).map(|(b, c)| c.as_ref().unwrap_or(b)).collect();
-    let casting_ids = casting;
     let casters: Vec<&Polygon> = casting.iter().map(|&k| all[k]).collect();
-    let casting: Vec<&Polygon> = casting.iter().map(|&k| blockers[k]).collect();
-    let test = ShadowTest::new(rec_part, &casting);
+    let casting_blockers: Vec<&Polygon> = casting.iter().map(|&k| blockers[k]).collect();
+    let test = ShadowTest::new(rec_part, &casting_blockers);
     // the receiver's part in front of the source has kinks of its own (see split_at_kinks);
     // so do the blockers as cut to the slab, which cast the shadows: where a blocker crosses
     // a plane its cut has new vertices and an edge along it, and their events are kinks
@@ -119,10 +118,10 @@ fn hidden_over(
     // of the casting ones alone were coarser, and the error estimate on them missed (1.7 x
     // tol on one pair of the building at obstructed_tol 1e-3, 0.015 x with all); the casting
     // ones' events come first (see split_at_kinks).
-    let start = split_at_kinks(src_part, rec_part, &all, casting_ids);
+    let start = split_at_kinks(src_part, rec_part, &all, casting);
     let free_point = |x: Vec3| point_polygon(x, src.normal(), rec.vertices());
     let integrand = Integrand { point: &point, free_point: &free_point, piece_free: &piece_free };
-    adaptive_over_source(&start, &casting, &integrand, &casters, &test, goal, o)
+    adaptive_over_source(&start, &casting_blockers, &integrand, &casters, &test, goal, o)
 }
 
 /// How far the blockers keep from the plane of `p`, relative to p's size: the least height of
@@ -304,25 +303,11 @@ fn near_segment(t: &[Vec3; 3], p: Vec3, q: Vec3) -> bool {
     c.distance(p + s * d) <= 2.0 * size
 }
 
-/// True if the segment pq (in the plane of triangle t) meets t, within 1e-9 of t's size.
-fn meets_segment(t: &[Vec3; 3], p: Vec3, q: Vec3) -> bool {
-    let size = t[0].distance(t[1]).max(t[1].distance(t[2])).max(t[2].distance(t[0]));
-    let eps = 1e-9 * size;
-    let edge = |k: usize| (t[k], t[(k + 1) % 3]);
-    inside_triangle(t, p, eps)
-        || inside_triangle(t, q, eps)
-        || (p != q && (0..3).any(|k| crate::geometry::segment_distance(p, q, edge(k).0, edge(k).1) <= eps))
-}
-
-/// True if the segment pq (in the plane of triangle t) reaches into t: it meets t (see
-/// [`meets_segment`]) and has an end in t or vertices of t strictly on both sides of its line.
-/// A segment along an edge of t, both ends beyond the edge's, only touches t.
+/// True if the segment pq (in the plane of triangle t) reaches into t: it has an end in t, or
+/// it comes within 1e-9 of t's size of an edge and has vertices of t strictly on both sides of
+/// its line. A segment along an edge of t, both ends beyond the edge's, only touches t.
 fn reaches_into(t: &[Vec3; 3], p: Vec3, q: Vec3) -> bool {
-    if !meets_segment(t, p, q) {
-        return false;
-    }
-    let size = t[0].distance(t[1]).max(t[1].distance(t[2])).max(t[2].distance(t[0]));
-    let eps = 1e-9 * size;
+    let eps = triangle_eps(t);
     if inside_triangle(t, p, eps) || inside_triangle(t, q, eps) {
         return true;
     }
@@ -333,7 +318,18 @@ fn reaches_into(t: &[Vec3; 3], p: Vec3, q: Vec3) -> bool {
         return false;
     }
     let side = |x: Vec3| n.dot(d.cross(x - p)) / len;
-    t.iter().any(|&x| side(x) > eps) && t.iter().any(|&x| side(x) < -eps)
+    t.iter().any(|&x| side(x) > eps) && t.iter().any(|&x| side(x) < -eps) && near_an_edge(t, p, q, eps)
+}
+
+/// 1e-9 of triangle t's longest edge: the distance within which [`reaches_into`] counts a
+/// point as on t.
+fn triangle_eps(t: &[Vec3; 3]) -> f64 {
+    1e-9 * t[0].distance(t[1]).max(t[1].distance(t[2])).max(t[2].distance(t[0]))
+}
+
+/// True if the segment pq (not a point) comes within `eps` of an edge of triangle t.
+fn near_an_edge(t: &[Vec3; 3], p: Vec3, q: Vec3, eps: f64) -> bool {
+    p != q && (0..3).any(|k| crate::geometry::segment_distance(p, q, t[k], t[(k + 1) % 3]) <= eps)
 }
 
 /// True if x (in the plane of triangle t) lies in t or within `eps` of it.
@@ -465,6 +461,9 @@ fn adaptive_over_source(
     // all but a small share of the point F hidden
     let mostly_hidden = |(hidden, free): (f64, Option<f64>)| free.is_some_and(|f| f - hidden <= VISIBLE_SHARE * f);
     let rule = source_rule(o.tol);
+    // the rule's point at the centroid, if it has one (Radon's does): the coarse start's
+    // centroid value is then that sample (one evaluation of eight saved at tight targets)
+    let centroid_sample = rule.iter().position(|(b, _)| *b == [1.0 / 3.0; 3]);
     let cuts: Vec<Option<(Vec3, Vec3)>> = match start.first() {
         Some(t) => blockers.iter().map(|b| plane_chord(b, t[0], (t[1] - t[0]).cross(t[2] - t[0]))).collect(),
         None => Vec::new(),
@@ -569,9 +568,8 @@ fn adaptive_over_source(
             coarse_start && !blind && !active.iter().any(|&k| cuts[k].is_some_and(|(p, q)| reaches_into(&t, p, q)));
         let mut l = Leaf { t, visible, whole, kids: None, err: 0.0, depth: 0, active };
         if coarse {
-            // children only where needed (see COARSE_START_TOL); Radon's rule has the
-            // centroid among its points (one evaluation of eight saved at tight targets)
-            let c = match rule.iter().position(|(b, _)| *b == [1.0 / 3.0; 3]) {
+            // children only where needed (see COARSE_START_TOL)
+            let c = match centroid_sample {
                 Some(k) => part(visible, samples[k].2),
                 None => {
                     evals.set(evals.get() + 1);
@@ -1095,7 +1093,7 @@ mod tests {
         let t = [Vec3::new(0.0, 0.0, 0.0), Vec3::new(1.0, 0.0, 0.0), Vec3::new(0.0, 1.0, 0.0)];
         let v = |x: f64, y: f64| Vec3::new(x, y, 0.0);
         // along the edge y = 0, ends beyond the edge's ends: touches only
-        assert!(meets_segment(&t, v(-1.0, 0.0), v(2.0, 0.0)));
+        assert!(near_an_edge(&t, v(-1.0, 0.0), v(2.0, 0.0), triangle_eps(&t)));
         assert!(!reaches_into(&t, v(-1.0, 0.0), v(2.0, 0.0)));
         // along the edge, one end on it: the trace ends there, the shadow's corner sweeps in
         assert!(reaches_into(&t, v(-1.0, 0.0), v(0.5, 0.0)));
@@ -1104,7 +1102,7 @@ mod tests {
         assert!(reaches_into(&t, v(0.1, 0.1), v(0.2, 0.2)));
         assert!(reaches_into(&t, v(-1.0, 0.3), v(0.2, 0.3)));
         // through a vertex only, along the hypotenuse, or missing the piece
-        assert!(meets_segment(&t, v(0.0, -1.0), v(2.0, 1.0)));
+        assert!(near_an_edge(&t, v(0.0, -1.0), v(2.0, 1.0), triangle_eps(&t)));
         assert!(!reaches_into(&t, v(0.0, -1.0), v(2.0, 1.0)));
         assert!(!reaches_into(&t, v(-1.0, 2.0), v(2.0, -1.0)));
         assert!(!reaches_into(&t, v(2.0, 2.0), v(3.0, 1.0)));

@@ -76,6 +76,10 @@ fn fan_triangles(pieces: &[Vec<Vec3>], min_area: f64) -> Vec<[Vec3; 3]> {
         .collect()
 }
 
+/// One blocker's traces on the source's plane, row r for receiver vertex r, column k for the
+/// blocker's vertex k (see `trace` in [`kink_planes`]).
+type Traces = Vec<Vec<std::result::Result<Vec3, i8>>>;
+
 /// The kink planes of a pair (see [`split_at_kinks`]), most important first, with the
 /// length tolerance under which a vertex counts as on a plane (for the events and the cuts).
 struct Kinks {
@@ -126,7 +130,7 @@ fn kink_planes(a: &Polygon, receiver: &Polygon, blockers: &[&Polygon], casting: 
             Ok(r + (q - r) * (dr / (dr - dq)))
         }
     };
-    let traces: Vec<Vec<Vec<std::result::Result<Vec3, i8>>>> = blockers
+    let traces: Vec<Traces> = blockers
         .iter()
         .map(|b| rec.iter().map(|&r| b.vertices().iter().map(|&q| trace(r, q)).collect()).collect())
         .collect();
@@ -157,7 +161,7 @@ fn kink_planes(a: &Polygon, receiver: &Polygon, blockers: &[&Polygon], casting: 
     };
     let next = |k: usize, len: usize| (k + 1) % len;
     // A blocker's own plane, and the planes through a receiver edge and a parallel edge of it.
-    let own = |b: &Polygon, t: &Vec<Vec<std::result::Result<Vec3, i8>>>, add: &mut dyn FnMut(Vec3, Vec3)| {
+    let own = |b: &Polygon, t: &Traces, add: &mut dyn FnMut(Vec3, Vec3)| {
         let bv = b.vertices();
         add(bv[0], b.normal());
         for k in 0..bv.len() {
@@ -193,7 +197,7 @@ fn kink_planes(a: &Polygon, receiver: &Polygon, blockers: &[&Polygon], casting: 
         let hopeless = matches!(ends, [Err(x), Err(y)] if x == y);
         !hopeless && n.length() > tol * edge.length() && crosses(q, n, &ends)
     };
-    let vertex_edge = |b: &Polygon, t: &Vec<Vec<std::result::Result<Vec3, i8>>>, add: &mut dyn FnMut(Vec3, Vec3)| {
+    let vertex_edge = |b: &Polygon, t: &Traces, add: &mut dyn FnMut(Vec3, Vec3)| {
         let bv = b.vertices();
         for k in 0..bv.len() {
             let k1 = next(k, bv.len());

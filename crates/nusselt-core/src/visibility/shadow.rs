@@ -827,10 +827,7 @@ impl Portal<'_> {
                 // grown by 1e-9 of its size about its own centre
                 let (lo, hi) = bbox(hull);
                 let c = [0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1])];
-                let grown: Vec<[f64; 2]> = hull
-                    .iter()
-                    .map(|u| rel([c[0] + (u[0] - c[0]) * (1.0 + self.grow), c[1] + (u[1] - c[1]) * (1.0 + self.grow)]))
-                    .collect();
+                let grown: Vec<[f64; 2]> = hull.iter().map(|&u| rel(scaled_about(u, c, 1.0 + self.grow))).collect();
                 total += signed_area(&grown).abs();
                 for shape in grown.overlay_as::<i64>(&cover, OverlayRule::Difference, FillRule::NonZero) {
                     let area: f64 = shape.iter().map(|c| signed_area(c)).sum::<f64>().abs();
@@ -858,8 +855,7 @@ impl Portal<'_> {
                         // shrunk in the plane's coordinates (as the hulls were computed)
                         let c =
                             g.iter().fold([0.0, 0.0], |a, u| [a[0] + u[0], a[1] + u[1]]).map(|x| x / g.len() as f64);
-                        let keep = 1.0 - self.band;
-                        g.iter().map(|u| lift(&[c[0] + (u[0] - c[0]) * keep, c[1] + (u[1] - c[1]) * keep])).collect()
+                        g.iter().map(|&u| lift(&scaled_about(u, c, 1.0 - self.band))).collect()
                     })
                     .collect();
                 if !pieces.is_empty() {
@@ -872,6 +868,11 @@ impl Portal<'_> {
             None => false,
         }
     }
+}
+
+/// u moved away from c by the factor f (towards it for f < 1).
+fn scaled_about(u: [f64; 2], c: [f64; 2], f: f64) -> [f64; 2] {
+    [c[0] + (u[0] - c[0]) * f, c[1] + (u[1] - c[1]) * f]
 }
 
 /// The convex hull of 2-D points, counter-clockwise (Andrew's monotone chain; collinear
