@@ -61,6 +61,22 @@ pub(super) fn split_at_kinks(
         }
         pieces = next;
     }
+    let na = a.normal();
+    for &(p0, p1) in &kinks.chords {
+        if pieces.len() >= MAX_KINK_PIECES {
+            break;
+        }
+        let n = (p1 - p0).cross(na).normalize_or_zero();
+        let mut next = Vec::with_capacity(pieces.len() + 2);
+        for piece in pieces {
+            if crosses_plane(&piece, p0, n, kinks.tol) && meets_chord(&piece, p0, p1, n, kinks.tol) {
+                split_by_plane(&piece, p0, n, kinks.tol, &mut next);
+            } else {
+                next.push(piece);
+            }
+        }
+        pieces = next;
+    }
     // Every piece is convex (a triangle cut by planes): fan triangulation.
     fan_triangles(&pieces, 1e-12 * a.area())
 }
@@ -76,6 +92,34 @@ fn fan_triangles(pieces: &[Vec<Vec3>], min_area: f64) -> Vec<[Vec3; 3]> {
         .collect()
 }
 
+/// True if the convex piece, which the line of the chord p0 p1 (in the plane with normal `n`
+/// through p0) crosses, meets the chord itself: the stretch of that line inside the piece
+/// overlaps the chord (within `tol`).
+fn meets_chord(piece: &[Vec3], p0: Vec3, p1: Vec3, n: Vec3, tol: f64) -> bool {
+    let u = p1 - p0;
+    let len = u.length();
+    if !(len > 0.0) {
+        return false;
+    }
+    let u = u / len;
+    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    let mut take = |x: Vec3| {
+        let s = u.dot(x - p0);
+        lo = lo.min(s);
+        hi = hi.max(s);
+    };
+    for k in 0..piece.len() {
+        let (x, y) = (piece[k], piece[(k + 1) % piece.len()]);
+        let (dx, dy) = (n.dot(x - p0), n.dot(y - p0));
+        if dx.abs() <= tol {
+            take(x);
+        } else if (dx > tol && dy < -tol) || (dx < -tol && dy > tol) {
+            take(x + (y - x) * (dx / (dx - dy)));
+        }
+    }
+    hi >= -tol && lo <= len + tol
+}
+
 /// One blocker's traces on the source's plane, row r for receiver vertex r, column k for the
 /// blocker's vertex k (see `trace` in [`kink_planes`]).
 type Traces = Vec<Vec<std::result::Result<Vec3, i8>>>;
@@ -84,6 +128,8 @@ type Traces = Vec<Vec<std::result::Result<Vec3, i8>>>;
 /// length tolerance under which a vertex counts as on a plane (for the events and the cuts).
 struct Kinks {
     planes: Vec<(Vec3, Vec3)>,
+    /// stretches of curved kinks, chord by chord: each cuts only the pieces it meets
+    chords: Vec<(Vec3, Vec3)>,
     tol: f64,
 }
 
@@ -260,6 +306,7 @@ fn kink_planes(a: &Polygon, receiver: &Polygon, blockers: &[&Polygon], casting: 
         })
     };
     let (cr, nr) = (receiver.centroid(), receiver.normal());
+    let mut chords: Vec<(Vec3, Vec3)> = Vec::new();
     // Edge-edge-edge events at a pierce point: where a blocker's edge pierces the source's
     // plane at a point V of the source (a vertex of the blocker as cut to the slab, on the
     // plane), lines from source points near V can meet that edge, a second edge and a third
@@ -272,12 +319,14 @@ fn kink_planes(a: &Polygon, receiver: &Polygon, blockers: &[&Polygon], casting: 
     // depends on the direction from V alone, and a kink in a narrow sector of directions is
     // missed on every corner piece at V alike (each a scaled copy of its parent): a source
     // triangle at such a V converged to 7.3e-5 of its unobstructed G off at every tol from
-    // 1e-8 down, 3e-8 with the tangents cut (`kinks_through_a_pierce_point_are_cut_along_their_
-    // tangents`); the conic's bend away from its tangent is left to the refinement. Only for
-    // transversals that meet both edges (not only their lines) and go on to the receiver, and
-    // up to MAX_PAIRWISE_BLOCKERS casting blockers (the building of bench/scenes.py at
-    // obstructed_tol 1e-3: 4 % more work units).
-    let pierce_events = |add: &mut dyn FnMut(Vec3, Vec3)| {
+    // 1e-8 down (`kinks_through_a_pierce_point_are_cut_along_their_tangents`). With the
+    // tangents cut it converged to 4e-8 off: the conic bends away from its tangent and hugs
+    // the cut within the samples' margin. So the conic is cut along chords too, between its
+    // points from the pierced edge's points 1/16, 1/8, .., 1 of the way from V: each chord
+    // cuts only the pieces it meets (a whole-source cut per chord cost the building 19 % more
+    // work units instead of 7 %). Only for transversals that meet both edges (not only their
+    // lines) and go on to the receiver, and up to MAX_PAIRWISE_BLOCKERS casting blockers.
+    let mut pierce_events = |add: &mut dyn FnMut(Vec3, Vec3)| {
         if casting.len() > MAX_PAIRWISE_BLOCKERS {
             return;
         }
@@ -353,8 +402,28 @@ fn kink_planes(a: &Polygon, receiver: &Polygon, blockers: &[&Polygon], casting: 
                                 let sr = nr.dot(cr - v) / nr.dot(t);
                                 sr > sa.max(sb) && within_polygon(receiver, v + t * sr)
                             };
-                            if within(ua) && within(ub) && ahead && reaches {
-                                add(v, l.cross(t));
+                            if !(within(ua) && within(ub) && ahead && reaches) {
+                                continue;
+                            }
+                            add(v, l.cross(t));
+                            // then chords of the conic, from points of the pierced edge
+                            // farther and farther from V, while their transversal meets both
+                            // edges in front of the source
+                            let mut prev = v;
+                            for f in [0.0625, 0.125, 0.25, 0.5, 1.0] {
+                                let x = v + l * f;
+                                let tt = (a0 - x).cross(a1 - x).cross((b0 - x).cross(b1 - x));
+                                let den = na.dot(tt);
+                                let p = x - tt * (na.dot(x - ca) / den);
+                                let ok = den.abs() > 0.0
+                                    && p.is_finite()
+                                    && matches!((meet(x, tt, a0, a1), meet(x, tt, b0, b1)),
+                                        (Some((_, ua)), Some((_, ub))) if within(ua) && within(ub));
+                                if !ok || p.distance(prev) <= 1e3 * tol {
+                                    break;
+                                }
+                                chords.push((prev, p));
+                                prev = p;
                             }
                         }
                     }
@@ -385,7 +454,7 @@ fn kink_planes(a: &Polygon, receiver: &Polygon, blockers: &[&Polygon], casting: 
             pierce_events(&mut add);
         }
     }
-    Kinks { planes, tol }
+    Kinks { planes, chords, tol }
 }
 
 #[cfg(test)]
