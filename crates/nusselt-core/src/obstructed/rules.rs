@@ -93,7 +93,3 @@ pub(super) fn rule_points<'r>(rule: &'r [([f64; 3], f64)], t: &[Vec3; 3]) -> imp
     let (t, area) = (*t, area3(t));
     rule.iter().map(move |(b, w)| (t[0] * b[0] + t[1] * b[1] + t[2] * b[2], area * w))
 }
-
-pub(super) fn rule_integral(rule: &[([f64; 3], f64)], t: &[Vec3; 3], f: &dyn Fn(Vec3) -> f64) -> f64 {
-    rule_points(rule, t).map(|(x, w)| w * f(x)).sum()
-}
