@@ -777,8 +777,9 @@ def test_replay_seed_28_face_within_the_band_of_another():
     # found by the long run with NUSSELT_HYPOTHESIS_SEED=28 (after 10 000 clean cases of the
     # pair test) as "scaled and moved changes F[2, 1] by 41 000 x the bound" and "an obstacle
     # raises F". Face 1 leans 1e-9 out of the plane x = 0 of face 3, and the two face each
-    # other over a triangle of area 0.25 (F[1, 3] = 0.5); face 2 sees face 1 only through that
-    # triangle, which face 3 covers: F[2, 1] is 0 up to the 1e-9 lean. Face 3 lies within the
+    # other over a triangle of area 0.25, half of face 1 (so F[1, 3] = 0.5: at no distance all
+    # that half sends arrives); face 2 sees face 1 only through that triangle, which face 3
+    # covers: F[2, 1] is 0 up to the 1e-9 lean. Face 3 lies within the
     # 1e-9 band in which the visibility code counts points as on a plane, and F[2, 1] comes
     # out 0.0320 at the origin, 0.0231 moved by 7 or scaled by 1e-6 and moved (clipping at
     # 1e-10: 0.0331 / 0.0232; montecarlo 0.049; the free F is 0.108). The build before the

@@ -497,14 +497,13 @@ fn adaptive_over_source(
             v
         };
         let k = split_in_four(&l.t);
-        let (lo, hi) = (std::cell::Cell::new(f64::INFINITY), std::cell::Cell::new(0.0_f64));
-        let mut linear_gap = 0.0;
+        // the kids' rule values, the spread of their samples and their linear gap (see below)
+        let (mut lo, mut hi, mut linear_gap) = (f64::INFINITY, 0.0_f64, 0.0);
         let kids = [0, 1, 2, 3].map(|i| {
             let (mut sum, mut mean) = (0.0, 0.0);
             for (x, w) in rule_points(&rule, &k[i]) {
                 let v = g(x);
-                lo.set(lo.get().min(v));
-                hi.set(hi.get().max(v));
+                (lo, hi) = (lo.min(v), hi.max(v));
                 sum += w * v;
                 mean += v;
             }
@@ -533,7 +532,7 @@ fn adaptive_over_source(
         // (64 x tol at the default, `a_steep_start_piece_is_not_trusted_on_one_level`). It
         // counts at least STEEP_SHARE of how far its children's rule lies from their
         // equal-weight (linear) rule, which takes it on to its grandchildren where that matters.
-        if l.depth == 0 && lo.get() > 0.0 && hi.get() > COARSE_SPREAD * lo.get() {
+        if l.depth == 0 && lo > 0.0 && hi > COARSE_SPREAD * lo {
             l.err = l.err.max(STEEP_SHARE * linear_gap);
         }
         l.kids = Some(kids);

@@ -47,19 +47,23 @@ pub(super) fn split_at_kinks(
     let kinks = kink_planes(a, receiver, blockers, casting);
     let v = a.vertices();
     let mut pieces: Vec<Vec<Vec3>> = a.triangulate().iter().map(|t| vec![v[t[0]], v[t[1]], v[t[2]]]).collect();
-    for &(q, n) in &kinks.planes {
-        if pieces.len() >= MAX_KINK_PIECES {
-            break;
-        }
+    // the pieces the plane (q, n) crosses, those `meets` accepts split along it
+    let cut = |pieces: Vec<Vec<Vec3>>, q: Vec3, n: Vec3, meets: &dyn Fn(&[Vec3]) -> bool| {
         let mut next = Vec::with_capacity(pieces.len() + 4);
         for piece in pieces {
-            if crosses_plane(&piece, q, n, kinks.tol) {
+            if crosses_plane(&piece, q, n, kinks.tol) && meets(&piece) {
                 split_by_plane(&piece, q, n, kinks.tol, &mut next);
             } else {
                 next.push(piece);
             }
         }
-        pieces = next;
+        next
+    };
+    for &(q, n) in &kinks.planes {
+        if pieces.len() >= MAX_KINK_PIECES {
+            break;
+        }
+        pieces = cut(pieces, q, n, &|_| true);
     }
     let na = a.normal();
     for &(p0, p1) in &kinks.chords {
@@ -67,15 +71,7 @@ pub(super) fn split_at_kinks(
             break;
         }
         let n = (p1 - p0).cross(na).normalize_or_zero();
-        let mut next = Vec::with_capacity(pieces.len() + 2);
-        for piece in pieces {
-            if crosses_plane(&piece, p0, n, kinks.tol) && meets_chord(&piece, p0, p1, n, kinks.tol) {
-                split_by_plane(&piece, p0, n, kinks.tol, &mut next);
-            } else {
-                next.push(piece);
-            }
-        }
-        pieces = next;
+        pieces = cut(pieces, p0, n, &|piece| meets_chord(piece, p0, p1, n, kinks.tol));
     }
     // Every piece is convex (a triangle cut by planes): fan triangulation.
     fan_triangles(&pieces, 1e-12 * a.area())
@@ -118,6 +114,51 @@ fn meets_chord(piece: &[Vec3], p0: Vec3, p1: Vec3, n: Vec3, tol: f64) -> bool {
         }
     }
     hi >= -tol && lo <= len + tol
+}
+
+/// Where the line x + s t meets the segments e and f (each in a common plane with the line):
+/// (s at e, s at f), or None if it misses either within 1e-9 of its length.
+fn meets_both(x: Vec3, t: Vec3, e: (Vec3, Vec3), f: (Vec3, Vec3)) -> Option<(f64, f64)> {
+    // s where the line meets the edge (p, q), if it does so between them (u from 0 at p to 1 at q)
+    let meet = |(p, q): (Vec3, Vec3)| -> Option<f64> {
+        let d = q - p;
+        let c = d.cross(t);
+        let cc = c.length_squared();
+        if !(cc > 0.0) {
+            return None;
+        }
+        let u = (x - p).cross(t).dot(c) / cc;
+        (-1e-9..=1.0 + 1e-9).contains(&u).then(|| (x - p).cross(d).dot(c) / cc)
+    };
+    Some((meet(e)?, meet(f)?))
+}
+
+/// Chords of the conic that the lines meeting the pierced edge v + s l (0 <= s <= 1) and the
+/// edges e and f trace on the source's plane (through c with normal n), from its point V = v:
+/// between the points whose transversals start 1/16, 1/8, 1/4, 1/2 and all of the way along
+/// the pierced edge, while those still meet both edges (see `kink_planes`), into `out`.
+fn conic_chords(
+    v: Vec3,
+    l: Vec3,
+    e: (Vec3, Vec3),
+    f: (Vec3, Vec3),
+    (c, n): (Vec3, Vec3),
+    tol: f64,
+    out: &mut Vec<(Vec3, Vec3)>,
+) {
+    let mut prev = v;
+    for s in [0.0625, 0.125, 0.25, 0.5, 1.0] {
+        let x = v + l * s;
+        let t = (e.0 - x).cross(e.1 - x).cross((f.0 - x).cross(f.1 - x));
+        let den = n.dot(t);
+        let p = x - t * (n.dot(x - c) / den);
+        let ok = den.abs() > 0.0 && p.is_finite() && meets_both(x, t, e, f).is_some();
+        if !ok || p.distance(prev) <= 1e3 * tol {
+            break;
+        }
+        out.push((prev, p));
+        prev = p;
+    }
 }
 
 /// One blocker's traces on the source's plane, row r for receiver vertex r, column k for the
@@ -295,12 +336,18 @@ fn kink_planes(a: &Polygon, receiver: &Polygon, blockers: &[&Polygon], casting: 
             }
         }
     };
-    // x (in the plane of p) within `tol` of p
-    let within_polygon = |p: &Polygon, x: Vec3| {
-        let (v, n) = (p.vertices(), p.normal());
-        p.triangulate().iter().any(|t| {
+    // the source's and the receiver's triangles with its normal, triangulated once: x (in the
+    // plane) within `tol` of the polygon (the polygon's normal, not the triangles': a sliver
+    // of the fan has none)
+    let triangles = |p: &Polygon| -> (Vec<[Vec3; 3]>, Vec3) {
+        let v = p.vertices();
+        (p.triangulate().iter().map(|t| [v[t[0]], v[t[1]], v[t[2]]]).collect(), p.normal())
+    };
+    let (src_triangles, rec_triangles) = (triangles(a), triangles(receiver));
+    let on = |(tris, n): &(Vec<[Vec3; 3]>, Vec3), x: Vec3| {
+        tris.iter().any(|t| {
             (0..3).all(|k| {
-                let (p, q) = (v[t[k]], v[t[(k + 1) % 3]]);
+                let (p, q) = (t[k], t[(k + 1) % 3]);
                 n.dot((q - p).cross(x - p)) >= -tol * p.distance(q)
             })
         })
@@ -340,23 +387,10 @@ fn kink_planes(a: &Polygon, receiver: &Polygon, blockers: &[&Polygon], casting: 
                 edges.push((i, bv[k], bv[next(k, bv.len())]));
             }
         }
-        // where the line x + s t meets the line of the edge (p, q) in their common plane:
-        // (s, position along the edge from 0 at p to 1 at q)
-        let meet = |x: Vec3, t: Vec3, p: Vec3, q: Vec3| -> Option<(f64, f64)> {
-            let d = q - p;
-            let c = d.cross(t);
-            let cc = c.length_squared();
-            if !(cc > 0.0) {
-                return None;
-            }
-            let u = (x - p).cross(t).dot(c) / cc;
-            let s = (x - p).cross(d).dot(c) / cc;
-            Some((s, u))
-        };
         for &i in casting {
             let bv = blockers[i].vertices();
             for (k, &v) in bv.iter().enumerate() {
-                if dist(v) != 0.0 || !within_polygon(a, v) {
+                if dist(v) != 0.0 || !on(&src_triangles, v) {
                     continue;
                 }
                 for w in [bv[next(k, bv.len())], bv[(k + bv.len() - 1) % bv.len()]] {
@@ -385,13 +419,12 @@ fn kink_planes(a: &Polygon, receiver: &Polygon, blockers: &[&Polygon], casting: 
                                 continue;
                             }
                             let t = t / len;
-                            let (Some((sa, ua)), Some((sb, ub))) = (meet(v, t, a0, a1), meet(v, t, b0, b1)) else {
-                                continue;
-                            };
                             // the transversal meets both edges (not only their lines), on one
                             // side of V, in front of the source, and goes on to the receiver:
                             // it ends on the receiver's edge or meets the receiver beyond both
-                            let within = |u: f64| (-1e-9..=1.0 + 1e-9).contains(&u);
+                            let Some((sa, sb)) = meets_both(v, t, (a0, a1), (b0, b1)) else {
+                                continue;
+                            };
                             let ahead = sa * sb > 0.0 && dist(v + t * sa) > 0.0;
                             let (sa, sb) = (sa.abs(), sb.abs());
                             let t = if dist(v + t) > 0.0 { t } else { -t };
@@ -400,30 +433,11 @@ fn kink_planes(a: &Polygon, receiver: &Polygon, blockers: &[&Polygon], casting: 
                                 sb < sa
                             } else {
                                 let sr = nr.dot(cr - v) / nr.dot(t);
-                                sr > sa.max(sb) && within_polygon(receiver, v + t * sr)
+                                sr > sa.max(sb) && on(&rec_triangles, v + t * sr)
                             };
-                            if !(within(ua) && within(ub) && ahead && reaches) {
-                                continue;
-                            }
-                            add(v, l.cross(t));
-                            // then chords of the conic, from points of the pierced edge
-                            // farther and farther from V, while their transversal meets both
-                            // edges in front of the source
-                            let mut prev = v;
-                            for f in [0.0625, 0.125, 0.25, 0.5, 1.0] {
-                                let x = v + l * f;
-                                let tt = (a0 - x).cross(a1 - x).cross((b0 - x).cross(b1 - x));
-                                let den = na.dot(tt);
-                                let p = x - tt * (na.dot(x - ca) / den);
-                                let ok = den.abs() > 0.0
-                                    && p.is_finite()
-                                    && matches!((meet(x, tt, a0, a1), meet(x, tt, b0, b1)),
-                                        (Some((_, ua)), Some((_, ub))) if within(ua) && within(ub));
-                                if !ok || p.distance(prev) <= 1e3 * tol {
-                                    break;
-                                }
-                                chords.push((prev, p));
-                                prev = p;
+                            if ahead && reaches {
+                                add(v, l.cross(t));
+                                conic_chords(v, l, (a0, a1), (b0, b1), (ca, na), tol, &mut chords);
                             }
                         }
                     }
