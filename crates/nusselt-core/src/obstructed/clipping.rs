@@ -118,10 +118,10 @@ fn hidden_over(
     // of the casting ones alone were coarser, and the error estimate on them missed (1.7 x
     // tol on one pair of the building at obstructed_tol 1e-3, 0.015 x with all); the casting
     // ones' events come first (see split_at_kinks).
-    let start = split_at_kinks(src_part, rec_part, &all, casting);
+    let (start, kinked) = split_at_kinks(src_part, rec_part, &all, casting);
     let free_point = |x: Vec3| point_polygon(x, src.normal(), rec.vertices());
     let integrand = Integrand { point: &point, free_point: &free_point, piece_free: &piece_free };
-    adaptive_over_source(&start, &casting_blockers, &integrand, &casters, &test, goal, o)
+    adaptive_over_source(&start, &kinked, &casting_blockers, &integrand, &casters, &test, goal, o)
 }
 
 /// How far the blockers keep from the plane of `p`, relative to p's size: the least height of
@@ -237,6 +237,20 @@ const COARSE_SPREAD: f64 = 3.0;
 /// (107.5 -> 108.9 M); at targets from LOW_DEGREE_TOL on the rule is itself equal-weight and
 /// nothing changes.
 const STEEP_SHARE: f64 = 0.01;
+
+/// Share of its value that a steep start piece (samples spread by more than COARSE_SPREAD)
+/// crossed by a kink the split left uncut (past MAX_KINK_PIECES) counts as error at least, for
+/// targets below KINKED_BELOW: on such a piece Radon's rule and its children's can agree far
+/// below their error (a piece of the seed-29 replay in tests/test_properties.py, samples
+/// spread 11-fold: 6.5e-5 of the piece apart, both 4 % off; the grandchildren's rule was 5 %
+/// away), and the piece is refined at least once where that matters. The 391-surface
+/// building of bench/scenes.py at the default: 108.9 -> 116.4 M work units, rows within
+/// 1.107e-7 (1.09e-7). For every kinked piece, steep or not, 2.0 x the work; at
+/// obstructed_tol 1e-3 the steep ones alone 2.3 x (7.4 -> 17.3 M), hence the threshold.
+const KINKED_SHARE: f64 = 0.05;
+
+/// Targets below which [`KINKED_SHARE`] applies.
+const KINKED_BELOW: f64 = 1e-5;
 
 /// Relative targets from which the adaptive source integration uses Strang and Fix's
 /// interior 3-point rule (degree 2) instead of Radon's 7 points (degree 5). The source is cut
@@ -403,8 +417,10 @@ const VISIBLE_SHARE: f64 = 0.01;
 /// keeps the hidden part, smooth there, and its coarse estimate. Cost: the building of
 /// bench/scenes.py at obstructed_tol 1e-3 about 3 % more CPU (10 215 such pieces); taking
 /// every piece more than half hidden, with the free F at every sample, cost 2.5 x.
+#[allow(clippy::too_many_arguments)]
 fn adaptive_over_source(
     start: &[[Vec3; 3]],
+    kinked: &[bool],
     blockers: &[&Polygon],
     integrand: &Integrand,
     casters: &[&Polygon],
@@ -426,6 +442,8 @@ fn adaptive_over_source(
         depth: usize,
         /// the blockers that may cast a shadow from this leaf (indices into `blockers`)
         active: Vec<usize>,
+        /// a start piece that a kink left uncut crosses (see KINKED_SHARE)
+        kinked: bool,
     }
     impl Leaf {
         fn value(&self) -> f64 {
@@ -542,6 +560,9 @@ fn adaptive_over_source(
         if l.depth == 0 && lo > 0.0 && hi > COARSE_SPREAD * lo {
             l.err = l.err.max(STEEP_SHARE * linear_gap);
         }
+        if l.kinked && lo > 0.0 && hi > COARSE_SPREAD * lo {
+            l.err = l.err.max(KINKED_SHARE * kids.iter().sum::<f64>().abs());
+        }
         l.kids = Some(kids);
     };
     let mut heap = BinaryHeap::new();
@@ -551,7 +572,7 @@ fn adaptive_over_source(
     let all: Vec<usize> = (0..blockers.len()).collect();
     let coarse_start = o.tol >= COARSE_START_TOL;
     let mut samples = Vec::with_capacity(rule.len());
-    for &t in start {
+    for (&t, &kinked) in start.iter().zip(kinked) {
         let mut active = Vec::new();
         test.active(&t, &all, &mut active);
         if active.is_empty() {
@@ -602,9 +623,12 @@ fn adaptive_over_source(
         // the edge (the wall hides what lies beyond its plane alike from all points near it).
         // The building of bench/scenes.py at obstructed_tol 1e-3: 60 326 -> 25 923 start
         // pieces refined at once, 7 % fewer evaluations and CPU, row sums 2.09e-4 -> 1.70e-4.
-        let coarse =
-            coarse_start && !blind && !active.iter().any(|&k| cuts[k].is_some_and(|(p, q)| reaches_into(&t, p, q)));
-        let mut l = Leaf { t, visible, whole, kids: None, err: 0.0, depth: 0, active };
+        let kinked = kinked && o.tol < KINKED_BELOW;
+        let coarse = coarse_start
+            && !blind
+            && !kinked
+            && !active.iter().any(|&k| cuts[k].is_some_and(|(p, q)| reaches_into(&t, p, q)));
+        let mut l = Leaf { t, visible, whole, kids: None, err: 0.0, depth: 0, active, kinked };
         if coarse {
             // children only where needed (see COARSE_START_TOL)
             let c = match centroid_sample {
@@ -654,8 +678,9 @@ fn adaptive_over_source(
                 }
                 continue;
             }
+            let depth = worst.depth + 1;
             let mut l =
-                Leaf { t: k, visible: worst.visible, whole, kids: None, err: 0.0, depth: worst.depth + 1, active };
+                Leaf { t: k, visible: worst.visible, whole, kids: None, err: 0.0, depth, active, kinked: false };
             refine(&mut l);
             total_err += l.err;
             heap.push(l);

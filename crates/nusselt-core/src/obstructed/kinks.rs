@@ -38,12 +38,15 @@ const MAX_PAIRWISE_BLOCKERS: usize = 24;
 /// events of their own. `casting` indexes the blockers that cast a shadow of their own (the
 /// others are hidden behind them from the whole source): their events come first, and only
 /// theirs between blockers.
+///
+/// Returns the start triangles and, for each, whether a kink left uncut (past
+/// MAX_KINK_PIECES) crosses it.
 pub(super) fn split_at_kinks(
     a: &Polygon,
     receiver: &Polygon,
     blockers: &[&Polygon],
     casting: &[usize],
-) -> Vec<[Vec3; 3]> {
+) -> (Vec<[Vec3; 3]>, Vec<bool>) {
     let kinks = kink_planes(a, receiver, blockers, casting);
     let v = a.vertices();
     let mut pieces: Vec<Vec<Vec3>> = a.triangulate().iter().map(|t| vec![v[t[0]], v[t[1]], v[t[2]]]).collect();
@@ -59,22 +62,40 @@ pub(super) fn split_at_kinks(
         }
         next
     };
-    for &(q, n) in &kinks.planes {
-        if pieces.len() >= MAX_KINK_PIECES {
-            break;
-        }
+    let (mut next_plane, mut next_chord) = (0, 0);
+    while next_plane < kinks.planes.len() && pieces.len() < MAX_KINK_PIECES {
+        let (q, n) = kinks.planes[next_plane];
         pieces = cut(pieces, q, n, &|_| true);
+        next_plane += 1;
     }
     let na = a.normal();
-    for &(p0, p1) in &kinks.chords {
-        if pieces.len() >= MAX_KINK_PIECES {
-            break;
-        }
-        let n = (p1 - p0).cross(na).normalize_or_zero();
+    let chord = |&(p0, p1): &(Vec3, Vec3)| (p0, p1, (p1 - p0).cross(na).normalize_or_zero());
+    while next_chord < kinks.chords.len() && pieces.len() < MAX_KINK_PIECES {
+        let (p0, p1, n) = chord(&kinks.chords[next_chord]);
         pieces = cut(pieces, p0, n, &|piece| meets_chord(piece, p0, p1, n, kinks.tol));
+        next_chord += 1;
     }
+    // the kinks left uncut, and the pieces they cross (see `kinked` in clipping)
+    let (planes, chords) = (&kinks.planes[next_plane..], &kinks.chords[next_chord..]);
+    let kinked = |piece: &[Vec3]| {
+        planes.iter().any(|&(q, n)| crosses_plane(piece, q, n, kinks.tol))
+            || chords
+                .iter()
+                .map(chord)
+                .any(|(p0, p1, n)| crosses_plane(piece, p0, n, kinks.tol) && meets_chord(piece, p0, p1, n, kinks.tol))
+    };
     // Every piece is convex (a triangle cut by planes): fan triangulation.
-    fan_triangles(&pieces, 1e-12 * a.area())
+    let min_area = 1e-12 * a.area();
+    let mut triangles = Vec::with_capacity(2 * pieces.len());
+    let mut crossed = Vec::with_capacity(2 * pieces.len());
+    for p in pieces.iter().filter(|p| p.len() >= 3) {
+        let k = kinked(p);
+        for t in fan_triangles(std::slice::from_ref(p), min_area) {
+            triangles.push(t);
+            crossed.push(k);
+        }
+    }
+    (triangles, crossed)
 }
 
 /// Fan triangles of convex pieces. Slivers from cuts through a vertex carry no area but would
@@ -519,7 +540,7 @@ mod tests {
             let p = scaled(s);
             let (a, b) = crate::geometry::clip_pair(&p[0], &p[1]).unwrap();
             let (a, b) = (Polygon::new(a).unwrap(), Polygon::new(b).unwrap());
-            split_at_kinks(&a, &b, &[&p[2]], &[0])
+            split_at_kinks(&a, &b, &[&p[2]], &[0]).0
         };
         let unit = split(1.0);
         assert!(unit.len() > 10, "{} pieces", unit.len());
@@ -551,7 +572,7 @@ mod tests {
         let n = (e0 - q).cross(e1 - q).normalize();
         let found = kinks.planes.iter().any(|&(p, m)| m.cross(n).length() < 1e-12 && m.dot(q - p).abs() < 1e-12);
         assert!(found, "{} planes", kinks.planes.len());
-        let pieces = split_at_kinks(&src, &rec, &[&low, &high], &[0, 1]);
+        let (pieces, _) = split_at_kinks(&src, &rec, &[&low, &high], &[0, 1]);
         // some piece has an edge in that plane
         let on = |x: Vec3| n.dot(x - q).abs() < 1e-12;
         assert!(pieces.iter().any(|t| (0..3).any(|k| on(t[k]) && on(t[(k + 1) % 3]))));
@@ -581,5 +602,34 @@ mod tests {
             |p: Vec3, m: Vec3| blockers[2..].iter().any(|b| b.vertices().iter().any(|v| m.dot(*v - p).abs() < 1e-12));
         let first_hidden = kinks.planes.iter().position(|&(p, m)| hidden(p, m)).expect("events of the hidden squares");
         assert!(at < first_hidden, "{at} vs {first_hidden}");
+    }
+
+    /// The split marks the pieces that a kink left uncut past MAX_KINK_PIECES crosses, and only
+    /// those: none when every event was cut (two squares), some when 20 scattered squares fill
+    /// the split: exactly the pieces a kink plane crosses.
+    #[test]
+    fn pieces_crossed_by_kinks_past_the_limit_are_marked() {
+        use crate::unobstructed::far_field::tests::square;
+        let (src, rec) = (square(-0.5, -0.5, 1.0, 0.0, true), square(-0.5, -0.5, 1.0, 1.0, false));
+        let two = [square(-0.25, -0.1, 0.2, 0.3, true), square(0.05, -0.05, 0.2, 0.6, true)];
+        let (pieces, kinked) = split_at_kinks(&src, &rec, &[&two[0], &two[1]], &[0, 1]);
+        assert_eq!(pieces.len(), kinked.len());
+        assert!(!kinked.iter().any(|&k| k));
+        let many: Vec<Polygon> = (0..20)
+            .map(|k| square(-0.45 + 0.043 * k as f64, -0.4 + 0.037 * k as f64, 0.05, 0.2 + 0.03 * k as f64, true))
+            .collect();
+        let all: Vec<&Polygon> = many.iter().collect();
+        let every: Vec<usize> = (0..all.len()).collect();
+        let (pieces, kinked) = split_at_kinks(&src, &rec, &all, &every);
+        assert_eq!(pieces.len(), kinked.len());
+        let marked = kinked.iter().filter(|&&k| k).count();
+        assert!(marked > 0 && marked < pieces.len(), "{marked} of {}", pieces.len());
+        // (a plane that was cut along crosses no piece, and these squares pierce nothing: no
+        // chords)
+        let kinks = kink_planes(&src, &rec, &all, &every);
+        assert!(kinks.chords.is_empty());
+        for (t, &k) in pieces.iter().zip(&kinked) {
+            assert_eq!(k, kinks.planes.iter().any(|&(q, n)| crosses_plane(t, q, n, kinks.tol)));
+        }
     }
 }
