@@ -854,7 +854,15 @@ fn edge_planes(
     let dir_hi = -(uv_hi.0 * m1 + uv_hi.1 * m2);
     // The edge direction's rounding (~ eps max|x| / |edge|) tilts the plane; at distance
     // `reach` that moves it by about reach times that.
-    let tol_p = tol + 16.0 * f64::EPSILON * max_abs * reach / len;
+    let tilt = 16.0 * f64::EPSILON * max_abs * reach / len;
+    // An edge so short that the tilt exceeds the shaft's tolerance gives no plane (the hull is
+    // then only larger): its planes, widened by the tilt, culled blockers that reach into the
+    // shaft of a sliver 6e-8 wide by more than the tolerance, at one placement of the scene and
+    // not at another (tests/test_properties.py, seed 30).
+    if tilt > tol {
+        return;
+    }
+    let tol_p = tol + tilt;
     // Outward normals: perpendicular to the extreme directions, pointing away from the rest.
     // All angles lie in [lo, hi]: at the `lo` end the others are counter-clockwise from dir_lo.
     // The (m1, m2) frame turns counter-clockwise about -e (m1 x m2 = -e), so a turn by

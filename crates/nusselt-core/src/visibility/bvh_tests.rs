@@ -664,3 +664,29 @@ fn a_tree_deeper_than_the_traversal_stack_matches_brute_force() {
         }
     }
 }
+
+/// A sliver 6e-8 wide with an edge 1e-7 long (the part of a face leaning 2^-24 out of the
+/// plane x = 0 in front of its partner), and a face in x = 0 that a segment between the pair
+/// crosses: a candidate wherever the scene lies. Scaled by 1e-6 and moved by 7e-6, the short
+/// edge's planes took a tolerance of 3e-7 of the pair's size from the rounding of its direction
+/// and culled it.
+#[test]
+fn shaft_of_a_sliver_with_a_short_edge_keeps_a_blocker_it_reaches() {
+    let lean = -5.960464477539063e-8;
+    let sliver = [[0.0, 1.0, 0.0], [lean, 0.0, 0.0], [-5.960464122267716e-8; 3]];
+    let partner = [[0.0, 0.0, 0.0], [1.0, 0.0, 1.0], [0.0, 1.0, 0.0]];
+    let wall = [[0.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, 1.0, 0.0]];
+    for (s, shift) in [(1.0, 0.0), (1e-6, 7e-6)] {
+        let place =
+            |p: &[[f64; 3]; 3]| -> Vec<Vec3> { p.iter().map(|v| Vec3::from_array(v.map(|x| s * x + shift))).collect() };
+        let a = Polygon::with_tolerance(place(&sliver), 1e-6).unwrap();
+        let b = Polygon::new(place(&partner)).unwrap();
+        let w = Polygon::new(place(&wall)).unwrap();
+        // (independent of the shaft: the segment between the centroids crosses the wall)
+        assert!(segment_crosses(&w, a.centroid(), b.centroid()), "scale {s}");
+        let bvh = Bvh::new(&[a.clone(), b.clone(), w]).unwrap();
+        let mut out = Vec::new();
+        bvh.candidates_between(&a, &b, &[0, 1], &mut out);
+        assert_eq!(out, vec![2], "scale {s}");
+    }
+}
