@@ -961,3 +961,40 @@ def test_replay_seed_30_leaning_face_moved():
         ],
     ]
     _assert_moved_within([np.array(q) for q in polys])
+
+
+@pytest.mark.xfail(strict=True, reason="open: the scene's F[2, 3] at obstructed_tol 1e-3 is 9 x tol off")
+def test_replay_seed_31_scene_path_at_a_loose_tol():
+    # found by the long run with NUSSELT_HYPOTHESIS_SEED=31 (scene test, after 37 min) as
+    # "scaled and moved changes F[2, 3] by 4.5 x the bound" at obstructed_tol 1e-3. Open: the
+    # scene at the origin gives 0.0155303 (also at 1e-2 and with method="clipping", tol=1e-3),
+    # 9 x tol x F_free below the 0.0157367 of the pair by itself (view_factor with the other
+    # faces as obstacles, either order, at 1e-2 .. 1e-9, and the Rust pair entry with or
+    # without a candidate superset) and of the scene scaled by 1e-6 and moved
+    polys = [
+        [
+            [0.0, 0.0, 1.0],
+            [0.0, -0.5, 0.0],
+            [-1.0, 0.0, 0.0],
+        ],
+        [
+            [0.0, 0.0, -0.75],
+            [0.625, 0.0625, -0.25],
+            [-0.75, 0.5, 0.25],
+        ],
+        [
+            [0.0, 0.0, 0.0],
+            [0.0, -0.859375, -0.00390625],
+            [-0.25, -0.25, 0.0],
+        ],
+        [
+            [0.0, 0.0, 0.0],
+            [0.0, 0.96875, -1.0],
+            [0.25, -0.125, 0.0],
+        ],
+    ]
+    polys = [np.array(q) for q in polys]
+    free = nusselt.view_factor(polys[2], polys[3])
+    reference = nusselt.view_factor(polys[2], polys[3], obstacles=polys[:2], method="clipping", tol=1e-9)
+    F = nusselt.form_factors(nusselt.Scene.from_polygons(polys), obstructed_tol=1e-3).matrix.toarray()
+    assert abs(F[2, 3] - reference) <= 1e-3 * free, (F[2, 3] - reference) / (1e-3 * free)
