@@ -632,6 +632,24 @@ pub fn clip_by_height(v: &[Vec3], height: impl Fn(Vec3) -> f64, tol: f64, out: &
     drop_repeated_in_place(out, COINCIDENT_TOL * scale);
 }
 
+/// The triangles of polygon `p` (its own triangulation), for repeated [`within_triangles`] tests.
+pub(crate) fn triangles_of(p: &Polygon) -> Vec<[Vec3; 3]> {
+    let v = p.vertices();
+    p.triangulate().iter().map(|t| [v[t[0]], v[t[1]], v[t[2]]]).collect()
+}
+
+/// True if x (in the plane of the triangles, whose polygon has normal n) lies in one of them or
+/// within `tol` (absolute) of it. The polygon's normal, not the triangles': a sliver of a fan
+/// has none.
+pub(crate) fn within_triangles(tris: &[[Vec3; 3]], n: Vec3, x: Vec3, tol: f64) -> bool {
+    tris.iter().any(|t| {
+        (0..3).all(|k| {
+            let (p, q) = (t[k], t[(k + 1) % 3]);
+            n.dot((q - p).cross(x - p)) >= -tol * p.distance(q)
+        })
+    })
+}
+
 /// True if the convex `piece` has vertices farther than `tol` (absolute) on both sides of the
 /// plane through q with normal n, i.e. [`split_by_plane`] would cut it in two.
 pub(crate) fn crosses_plane(piece: &[Vec3], q: Vec3, n: Vec3, tol: f64) -> bool {

@@ -2,7 +2,7 @@
 //! integration starts from cut pieces instead of chasing a kink by refinement.
 
 use super::rules::area3;
-use crate::geometry::{crosses_plane, split_by_plane, Polygon, Vec3};
+use crate::geometry::{crosses_plane, split_by_plane, triangles_of, within_triangles, Polygon, Vec3};
 
 /// Most pieces the kink split may cut a source into (the planes after it are not cut). At 64
 /// the planes of a blocker whose shadow lay inside another's spent it before the events that
@@ -50,47 +50,37 @@ pub(super) fn split_at_kinks(
     let kinks = kink_planes(a, receiver, blockers, casting);
     let v = a.vertices();
     let mut pieces: Vec<Vec<Vec3>> = a.triangulate().iter().map(|t| vec![v[t[0]], v[t[1]], v[t[2]]]).collect();
-    // the pieces the plane (q, n) crosses, those `meets` accepts split along it
-    let cut = |pieces: Vec<Vec<Vec3>>, q: Vec3, n: Vec3, meets: &dyn Fn(&[Vec3]) -> bool| {
+    // The planes, then the chords (each cutting only the pieces it meets), until the pieces
+    // reach MAX_KINK_PIECES: a cut (q, n, the chord's other end) splits the pieces it crosses.
+    let na = a.normal();
+    let cuts: Vec<(Vec3, Vec3, Option<Vec3>)> = (kinks.planes.iter().map(|&(q, n)| (q, n, None)))
+        .chain(kinks.chords.iter().map(|&(p0, p1)| (p0, (p1 - p0).cross(na).normalize_or_zero(), Some(p1))))
+        .collect();
+    let splits = |piece: &[Vec3], &(q, n, end): &(Vec3, Vec3, Option<Vec3>)| {
+        crosses_plane(piece, q, n, kinks.tol) && end.is_none_or(|p1| meets_chord(piece, q, p1, n, kinks.tol))
+    };
+    let mut done = 0;
+    while done < cuts.len() && pieces.len() < MAX_KINK_PIECES {
         let mut next = Vec::with_capacity(pieces.len() + 4);
         for piece in pieces {
-            if crosses_plane(&piece, q, n, kinks.tol) && meets(&piece) {
-                split_by_plane(&piece, q, n, kinks.tol, &mut next);
+            if splits(&piece, &cuts[done]) {
+                split_by_plane(&piece, cuts[done].0, cuts[done].1, kinks.tol, &mut next);
             } else {
                 next.push(piece);
             }
         }
-        next
-    };
-    let (mut next_plane, mut next_chord) = (0, 0);
-    while next_plane < kinks.planes.len() && pieces.len() < MAX_KINK_PIECES {
-        let (q, n) = kinks.planes[next_plane];
-        pieces = cut(pieces, q, n, &|_| true);
-        next_plane += 1;
+        pieces = next;
+        done += 1;
     }
-    let na = a.normal();
-    let chord = |&(p0, p1): &(Vec3, Vec3)| (p0, p1, (p1 - p0).cross(na).normalize_or_zero());
-    while next_chord < kinks.chords.len() && pieces.len() < MAX_KINK_PIECES {
-        let (p0, p1, n) = chord(&kinks.chords[next_chord]);
-        pieces = cut(pieces, p0, n, &|piece| meets_chord(piece, p0, p1, n, kinks.tol));
-        next_chord += 1;
-    }
-    // the kinks left uncut, and the pieces they cross (see `kinked` in clipping)
-    let (planes, chords) = (&kinks.planes[next_plane..], &kinks.chords[next_chord..]);
-    let kinked = |piece: &[Vec3]| {
-        planes.iter().any(|&(q, n)| crosses_plane(piece, q, n, kinks.tol))
-            || chords
-                .iter()
-                .map(chord)
-                .any(|(p0, p1, n)| crosses_plane(piece, p0, n, kinks.tol) && meets_chord(piece, p0, p1, n, kinks.tol))
-    };
+    // the pieces that a cut left undone crosses (see `kinked` in clipping)
+    let kinked = |piece: &[Vec3]| cuts[done..].iter().any(|c| splits(piece, c));
     // Every piece is convex (a triangle cut by planes): fan triangulation.
     let min_area = 1e-12 * a.area();
     let mut triangles = Vec::with_capacity(2 * pieces.len());
     let mut crossed = Vec::with_capacity(2 * pieces.len());
     for p in pieces.iter().filter(|p| p.len() >= 3) {
         let k = kinked(p);
-        for t in fan_triangles(std::slice::from_ref(p), min_area) {
+        for t in fan_triangles(p, min_area) {
             triangles.push(t);
             crossed.push(k);
         }
@@ -98,15 +88,11 @@ pub(super) fn split_at_kinks(
     (triangles, crossed)
 }
 
-/// Fan triangles of convex pieces. Slivers from cuts through a vertex carry no area but would
-/// put sample points on a kink line: those below `min_area` are left out.
-fn fan_triangles(pieces: &[Vec<Vec3>], min_area: f64) -> Vec<[Vec3; 3]> {
-    pieces
-        .iter()
-        .filter(|p| p.len() >= 3)
-        .flat_map(|p| (1..p.len() - 1).map(move |k| [p[0], p[k], p[k + 1]]))
-        .filter(|t| area3(t) > min_area)
-        .collect()
+/// Fan triangles of a convex piece (at least 3 vertices). Slivers from cuts through a vertex
+/// carry no area but would put sample points on a kink line: those below `min_area` are left
+/// out.
+fn fan_triangles(p: &[Vec3], min_area: f64) -> impl Iterator<Item = [Vec3; 3]> + '_ {
+    (1..p.len() - 1).map(move |k| [p[0], p[k], p[k + 1]]).filter(move |t| area3(t) > min_area)
 }
 
 /// True if the convex piece, which the line of the chord p0 p1 (in the plane with normal `n`
@@ -374,22 +360,10 @@ fn kink_planes(a: &Polygon, receiver: &Polygon, blockers: &[&Polygon], casting: 
             }
         }
     };
-    // the source's and the receiver's triangles with its normal, triangulated once: x (in the
-    // plane) within `tol` of the polygon (the polygon's normal, not the triangles': a sliver
-    // of the fan has none)
-    let triangles = |p: &Polygon| -> (Vec<[Vec3; 3]>, Vec3) {
-        let v = p.vertices();
-        (p.triangulate().iter().map(|t| [v[t[0]], v[t[1]], v[t[2]]]).collect(), p.normal())
-    };
-    let (src_triangles, rec_triangles) = (triangles(a), triangles(receiver));
-    let on = |(tris, n): &(Vec<[Vec3; 3]>, Vec3), x: Vec3| {
-        tris.iter().any(|t| {
-            (0..3).all(|k| {
-                let (p, q) = (t[k], t[(k + 1) % 3]);
-                n.dot((q - p).cross(x - p)) >= -tol * p.distance(q)
-            })
-        })
-    };
+    // the source's and the receiver's triangles, triangulated once: x (in the plane) within
+    // `tol` of the polygon
+    let (src_triangles, rec_triangles) = ((triangles_of(a), a.normal()), (triangles_of(receiver), nr));
+    let on = |(tris, n): &(Vec<[Vec3; 3]>, Vec3), x: Vec3| within_triangles(tris, *n, x, tol);
     let mut chords: Vec<(Vec3, Vec3)> = Vec::new();
     // Edge-edge-edge events at a pierce point: where a blocker's edge pierces the source's
     // plane at a point V of the source (a vertex of the blocker as cut to the slab, on the
@@ -470,18 +444,18 @@ fn kink_planes(a: &Polygon, receiver: &Polygon, blockers: &[&Polygon], casting: 
                             // a plane (vertex X, edge l), and rounding alone says which edge the
                             // transversal meets first (it put the event in or out as the scene
                             // was moved: 5.9e-6 of F apart, tests/test_properties.py).
-                            let cross = (sa - sb).abs() <= tol;
+                            let crossing = (sa - sb).abs() <= tol;
                             let t = if dist(v + t) > 0.0 { t } else { -t };
                             // (the receiver's edges come first in `edges`)
                             let reaches = if oa == blockers.len() {
-                                sb < sa || cross
+                                sb < sa || crossing
                             } else {
                                 let sr = nr.dot(cr - v) / nr.dot(t);
                                 sr > sa.max(sb) && on(&rec_triangles, v + t * sr)
                             };
                             if ahead && reaches {
                                 add(v, l.cross(t));
-                                if !cross {
+                                if !crossing {
                                     conic_chords(v, l, (a0, a1), (b0, b1), (ca, na), tol, &mut chords);
                                 }
                             }
