@@ -120,7 +120,7 @@ fn hidden_over(
     // of the casting ones alone were coarser, and the error estimate on them missed (1.7 x
     // tol on one pair of the building at obstructed_tol 1e-3, 0.015 x with all); the casting
     // ones' events come first (see split_at_kinks).
-    let (start, kinked) = split_at_kinks(src_part, rec_part, &all, casting);
+    let (start, kinked) = split_at_kinks(src_part, rec_part, &all, casting, o.tol < KINKED_BELOW);
     let free_point = |x: Vec3| point_polygon(x, src.normal(), rec.vertices());
     let integrand = Integrand { point: &point, free_point: &free_point, piece_free: &piece_free };
     adaptive_over_source(&start, &kinked, &casting_blockers, &integrand, &casters, &test, goal, o)
@@ -606,7 +606,6 @@ fn adaptive_over_source(
     let all: Vec<usize> = (0..blockers.len()).collect();
     let coarse_start = o.tol >= COARSE_START_TOL;
     let mut samples = Vec::with_capacity(rule.len());
-    let mark_kinked = o.tol < KINKED_BELOW;
     for (&t, &kinked) in start.iter().zip(kinked) {
         let mut active = Vec::new();
         test.active(&t, &all, &mut active);
@@ -658,7 +657,6 @@ fn adaptive_over_source(
         // the edge (the wall hides what lies beyond its plane alike from all points near it).
         // The building of bench/scenes.py at obstructed_tol 1e-3: 60 326 -> 25 923 start
         // pieces refined at once, 7 % fewer evaluations and CPU, row sums 2.09e-4 -> 1.70e-4.
-        let kinked = kinked && mark_kinked;
         // (a source the split left whole, one start piece, is not trusted to the coarse
         // estimate: a blocker crossing both planes away from the pair, whose shadow moves
         // smoothly over the receiver, left it 9 x tol off at 1e-3 with the rule and the

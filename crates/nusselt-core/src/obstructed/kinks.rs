@@ -40,12 +40,15 @@ const MAX_PAIRWISE_BLOCKERS: usize = 24;
 /// theirs between blockers.
 ///
 /// Returns the start triangles and, for each, whether a kink left uncut (past
-/// MAX_KINK_PIECES) crosses it.
+/// MAX_KINK_PIECES) crosses it; with `mark_kinked` false, all false (testing every piece
+/// against every uncut kink was a fifth of this function's time in the building of
+/// bench/scenes.py at obstructed_tol 1e-3, where the flag is not used).
 pub(super) fn split_at_kinks(
     a: &Polygon,
     receiver: &Polygon,
     blockers: &[&Polygon],
     casting: &[usize],
+    mark_kinked: bool,
 ) -> (Vec<[Vec3; 3]>, Vec<bool>) {
     let kinks = kink_planes(a, receiver, blockers, casting);
     let v = a.vertices();
@@ -73,7 +76,7 @@ pub(super) fn split_at_kinks(
         done += 1;
     }
     // the pieces that a cut left undone crosses (see `kinked` in clipping)
-    let kinked = |piece: &[Vec3]| cuts[done..].iter().any(|c| splits(piece, c));
+    let kinked = |piece: &[Vec3]| mark_kinked && cuts[done..].iter().any(|c| splits(piece, c));
     // Every piece is convex (a triangle cut by planes): fan triangulation.
     let min_area = 1e-12 * a.area();
     let mut triangles = Vec::with_capacity(2 * pieces.len());
@@ -514,7 +517,7 @@ mod tests {
             let p = scaled(s);
             let (a, b) = crate::geometry::clip_pair(&p[0], &p[1]).unwrap();
             let (a, b) = (Polygon::new(a).unwrap(), Polygon::new(b).unwrap());
-            split_at_kinks(&a, &b, &[&p[2]], &[0]).0
+            split_at_kinks(&a, &b, &[&p[2]], &[0], false).0
         };
         let unit = split(1.0);
         assert!(unit.len() > 10, "{} pieces", unit.len());
@@ -546,7 +549,7 @@ mod tests {
         let n = (e0 - q).cross(e1 - q).normalize();
         let found = kinks.planes.iter().any(|&(p, m)| m.cross(n).length() < 1e-12 && m.dot(q - p).abs() < 1e-12);
         assert!(found, "{} planes", kinks.planes.len());
-        let (pieces, _) = split_at_kinks(&src, &rec, &[&low, &high], &[0, 1]);
+        let (pieces, _) = split_at_kinks(&src, &rec, &[&low, &high], &[0, 1], false);
         // some piece has an edge in that plane
         let on = |x: Vec3| n.dot(x - q).abs() < 1e-12;
         assert!(pieces.iter().any(|t| (0..3).any(|k| on(t[k]) && on(t[(k + 1) % 3]))));
@@ -586,7 +589,7 @@ mod tests {
         use crate::unobstructed::far_field::tests::square;
         let (src, rec) = (square(-0.5, -0.5, 1.0, 0.0, true), square(-0.5, -0.5, 1.0, 1.0, false));
         let two = [square(-0.25, -0.1, 0.2, 0.3, true), square(0.05, -0.05, 0.2, 0.6, true)];
-        let (pieces, kinked) = split_at_kinks(&src, &rec, &[&two[0], &two[1]], &[0, 1]);
+        let (pieces, kinked) = split_at_kinks(&src, &rec, &[&two[0], &two[1]], &[0, 1], true);
         assert_eq!(pieces.len(), kinked.len());
         assert!(!kinked.iter().any(|&k| k));
         let many: Vec<Polygon> = (0..20)
@@ -594,7 +597,7 @@ mod tests {
             .collect();
         let all: Vec<&Polygon> = many.iter().collect();
         let every: Vec<usize> = (0..all.len()).collect();
-        let (pieces, kinked) = split_at_kinks(&src, &rec, &all, &every);
+        let (pieces, kinked) = split_at_kinks(&src, &rec, &all, &every, true);
         assert_eq!(pieces.len(), kinked.len());
         let marked = kinked.iter().filter(|&&k| k).count();
         assert!(marked > 0 && marked < pieces.len(), "{marked} of {}", pieces.len());

@@ -32,7 +32,7 @@ pub(super) fn area_source_points(
         return source_points(a, k);
     }
     let every: Vec<usize> = (0..blockers.len()).collect();
-    let (pieces, _) = split_at_kinks(a, b, blockers, &every);
+    let (pieces, _) = split_at_kinks(a, b, blockers, &every, false);
     // largest first by area relative to the source, rounded so that equal pieces keep their
     // order in any units (the sort is stable); slivers below 1e-6 of the source, whose count
     // may change with the units' rounding, do not count against the cap
