@@ -140,7 +140,14 @@ fn hidden_over(
 /// (`test_replay_seed_28_face_within_the_band_of_another`). A crossing blocker gives exactly
 /// [`CROSSING_CLEARANCE`] (not that times the radius and divided again, whose rounding made two
 /// crossed faces tie or not depending on where the scene lies, and so chose the side to
-/// integrate over by translation).
+/// integrate over by translation). A blocker that crosses the plane beside p, its trace
+/// running over p for no more than [`TRACE_OVERLAP`] of p's radius, counts as close as its
+/// lowest vertex in front, as one that does not cross: nothing cuts p along its trace, and
+/// where it hovers low over p the shadowed F changes within its height. A face leaning 1e-5
+/// out of a plane, a blocker crossing its plane at a point of its edge and hovering 1e-5 over
+/// it along another edge of the blocker: the hidden F rose from 0 within 1e-5 of the
+/// blocker's plane, along a start piece whose rule and children's agreed (5 x tol off at the
+/// default over the leaning face, 0.05 x over the other; tests/test_properties.py, seed 32).
 fn clearance(p: &Polygon, blockers: &[&Polygon]) -> f64 {
     let (c, n, r) = (p.centroid(), p.normal(), p.radius());
     let mut least = f64::INFINITY;
@@ -169,13 +176,49 @@ fn clearance(p: &Polygon, blockers: &[&Polygon]) -> f64 {
         least = least.min(if hinged {
             HINGED_CLEARANCE.min(highest / r)
         } else if below && above < f64::INFINITY {
-            crossing
+            // (a blocker crossing the plane beside p, its trace not running over p, is cut
+            // along nothing there and hovers over p as low as its vertices come)
+            match plane_chord(b, c, n) {
+                Some(chord) if !runs_over(p, chord, tol) => crossing.min(above / r),
+                _ => crossing,
+            }
         } else {
             above / r
         });
     }
     least
 }
+
+/// True if the chord `(s, e)` (in the plane of polygon p) runs over p, or along its edge, for
+/// more than [`TRACE_OVERLAP`] of p's radius, points within `tol` of p counting as on it.
+fn runs_over(p: &Polygon, (s, e): (Vec3, Vec3), tol: f64) -> bool {
+    let (n, len, least) = (p.normal(), s.distance(e), TRACE_OVERLAP * p.radius());
+    if !(len > least) {
+        return false;
+    }
+    triangles_of(p).iter().any(|t| {
+        // the stretch of the chord inside each edge's line (grown by tol), as parameters
+        let (mut lo, mut hi) = (0.0_f64, 1.0_f64);
+        for k in 0..3 {
+            let (a, b) = (t[k], t[(k + 1) % 3]);
+            let inward = n.cross(b - a).normalize_or_zero();
+            let (f0, f1) = (inward.dot(s - a) + tol, inward.dot(e - a) + tol);
+            if f0 < 0.0 && f1 < 0.0 {
+                return false;
+            } else if f0 < 0.0 {
+                lo = lo.max(f0 / (f0 - f1));
+            } else if f1 < 0.0 {
+                hi = hi.min(f0 / (f0 - f1));
+            }
+        }
+        (hi - lo) * len > least
+    })
+}
+
+/// Share of a polygon's radius that a blocker's trace on its plane must run over it for the
+/// blocker to count as crossing it (see [`clearance`]): a trace that only touches it, at a
+/// point of its edge, cuts nothing.
+const TRACE_OVERLAP: f64 = 1e-6;
 
 /// True if the segment pq (in the plane of polygon s) meets s within `tol`: an end inside it,
 /// or within `tol` of one of its edges.
@@ -424,6 +467,14 @@ struct Integrand<'f> {
 /// ([`Integrand::piece_free`]) may err by, and below which a piece (its unobstructed G by its
 /// samples) keeps the hidden part whatever it looks like: a sliver's or a small piece's G
 /// asked to a relative 1e-4 took the analytic kernel's slow routes (70 ms for one piece).
+/// Samples whose free F spreads by more than [`COARSE_SPREAD`] do not say what the piece's G
+/// is: there the piece's G itself is asked for (to PIECE_FREE_TOL of the pair's relative
+/// target, an absolute error within this share of the goal), and the piece keeps the hidden
+/// part only if it is that small. Two faces nearly in contact along an edge, a third hiding
+/// them from each other whole: the samples of the one start piece gave 1.5e-11 for its G of
+/// 5.5e-7, at obstructed_tol 1e-3 it integrated the hidden part, whose samples all lie below
+/// the rise towards the edge, and F came out 0.99994 x the unobstructed F for 0
+/// (tests/test_properties.py, seed 32). The 391-surface building spends nothing more.
 const PIECE_FREE_TOL: f64 = 0.1;
 
 /// Share of the point F at most visible at every sample of a start piece that integrates the
@@ -626,8 +677,16 @@ fn adaptive_over_source(
         let free = if samples.iter().all(|s| mostly_hidden(s.2)) {
             let rough: f64 = samples.iter().map(|&(_, w, v)| w * v.1.unwrap_or(0.0)).sum();
             let allowed = PIECE_FREE_TOL * goal;
+            let (flo, fhi) = samples.iter().fold((f64::INFINITY, 0.0_f64), |(lo, hi), s| {
+                let f = s.2 .1.unwrap_or(0.0);
+                (lo.min(f), hi.max(f))
+            });
             if rough > allowed {
                 (integrand.piece_free)(&t, allowed / rough)
+            } else if fhi > COARSE_SPREAD * flo {
+                // (samples whose free F spreads may all lie below its rise towards an edge
+                // or vertex the pair shares: the piece's own G says, to a tenth of the goal)
+                (integrand.piece_free)(&t, PIECE_FREE_TOL * o.tol).filter(|&g| g > allowed)
             } else {
                 None
             }
@@ -743,6 +802,25 @@ mod tests {
         let bvh = Bvh::new(&occ.polygons).unwrap();
         let ctx = Context { polygons: polys, occluders: &occ, vis: &bvh, rules: None, exact_tol };
         pair(&ctx, i, j, &Estimator::Clipping(*o)).unwrap().value
+    }
+
+    /// G of the pair (i, j) of `polys` integrated over polygon i, whichever side the
+    /// clearances choose (every other polygon a blocker).
+    fn over_first(polys: &[Polygon], i: usize, j: usize, o: &ClippingOptions) -> f64 {
+        use super::super::{casting, clip_pair_polygons, hidden_band};
+        use crate::visibility::Visibility;
+        let occ = Occluders::new(polys);
+        let bvh = Bvh::new(&occ.polygons).unwrap();
+        let (a, b) = (&polys[i], &polys[j]);
+        let (ca, cb) = clip_pair_polygons(a, b).unwrap();
+        let (sa, sb) = (ca.as_ref().unwrap_or(a), cb.as_ref().unwrap_or(b));
+        let mut cand = Vec::new();
+        bvh.candidates_between(sa, sb, &[occ.owner[i], occ.owner[j]], &mut cand);
+        let blockers: Vec<&Polygon> = cand.iter().map(|&k| &occ.polygons[k as usize]).collect();
+        let cast = casting(sa, &blockers, hidden_band(&Estimator::Clipping(*o)));
+        let free = polygon_pair_within(a, b, 0.0);
+        let (hidden, _) = hidden_over((a, b, sa, sb), &blockers, &cast, o.tol * free, o);
+        (free - hidden).clamp(0.0, free)
     }
 
     /// Triangles from literal vertex lists.
@@ -982,9 +1060,12 @@ mod tests {
     /// Five faces meeting at the origin and an obstacle near face 2's plane (found by the long
     /// property run, tests/test_properties.py): face 3 hides face 2 from face 4 whole (every
     /// segment between random points of the two passes through it), and the two share the
-    /// vertex (0, 1, 0). The obstacle turns the integral to face 4, where the hidden part is all
+    /// vertex (0, 1, 0). The obstacle turned the integral to face 4, where the hidden part is all
     /// of the point F and steep towards that vertex: G was 1.06e-4 of the unobstructed G at
-    /// every tol, short of the budget. The pieces now integrate the visible part, 0.
+    /// every tol, short of the budget. The pieces now integrate the visible part, 0. (The
+    /// obstacle, hinged on face 2, crosses face 4's plane beside it, touching its edge, and
+    /// hovers 2^-8 over its corner: it counts as about as close to both, and face 4's side is
+    /// checked by itself.)
     #[test]
     fn a_hidden_touching_pair_integrates_the_visible_part() {
         use crate::visibility::bvh::tests::{ray_polygon, Rng};
@@ -1012,11 +1093,10 @@ mod tests {
             assert!(t > 0.0 && t < 1.0);
         }
         let free = method::area_factor(&polys[4], &polys[2], Method::Analytic, &Default::default(), None).unwrap();
-        assert!(clearance(&polys[2], &[&polys[5]]) < clearance(&polys[4], &[&polys[5]]));
         for tol in [1e-4, 1e-6, 1e-8] {
             let o = ClippingOptions { tol, ..Default::default() };
             for (i, j) in [(4, 2), (2, 4)] {
-                let g = clipping(&polys, i, j, &o, auto_tol());
+                let g = if i == 4 { over_first(&polys, i, j, &o) } else { clipping(&polys, i, j, &o, auto_tol()) };
                 assert!(
                     (0.0..=tol * free).contains(&g),
                     "({i}, {j}), tol {tol:e}: G {g:e}, {:.2e} x tol",
@@ -1336,5 +1416,59 @@ mod tests {
         let leaning =
             Polygon::new(vec![Vec3::new(2.0, 0.5, 0.0), Vec3::new(0.5, 0.0, 1.0), Vec3::new(0.5, 1.0, 1.0)]).unwrap();
         assert_eq!(clearance(&source, &[&leaning]), 1.0 / r);
+    }
+
+    /// Five faces, face 3 leaning 1e-5 out of the plane x = 0 (found by the long property run
+    /// with seed 32, tests/test_properties.py). Face 2 crosses face 3's plane beside it, its
+    /// trace touching face 3 at one point of its edge, and its edge from the origin hovers up
+    /// to 1e-5 over face 3: it counts as that close, not as crossing, and the pair (3, 4) is
+    /// integrated over face 4. Over face 3 the hidden F rose from 0 within 1e-5 of face 2's
+    /// plane along a start piece whose rule and children's agreed: 4.9 x tol off at the default.
+    /// Where the trace runs over the source, the blocker still counts as crossing.
+    #[test]
+    fn a_blocker_crossing_beside_the_source_hovers() {
+        let polys = triangles(&[
+            [[0.0, 0.0, 0.0], [0.0, 0.0, 1.0], [1.0, 0.0, 0.0]],
+            [[0.0, 0.0, 0.0], [0.0, 0.0, 0.5], [0.0, -1.0, 0.0]],
+            [[0.0, 0.0, 0.0], [0.0, 0.9375, 1.0], [-1.0, 0.0, 0.0]],
+            [[0.0, 0.0, 0.5], [0.0, 1.0, 0.0], [1e-5, 0.0, 0.0]],
+            [[0.0, 1.0, 0.0], [0.0, 1.0, 1.0], [-1.0, 1.0, 0.0]],
+        ]);
+        let (c3, c4) = (clearance(&polys[3], &[&polys[2]]), clearance(&polys[4], &[&polys[2]]));
+        assert!(c3 < 1e-4 && c3 < c4, "{c3:e} {c4:e}");
+        let free = method::area_factor(&polys[3], &polys[4], Method::Analytic, &Default::default(), None).unwrap();
+        let o = ClippingOptions { tol: auto_tol(), ..Default::default() };
+        let reference = clipping(&polys, 3, 4, &ClippingOptions { tol: 1e-10, ..o }, 1e-12);
+        for (i, j) in [(3, 4), (4, 3)] {
+            let g = clipping(&polys, i, j, &o, 1e-12);
+            assert!((g - reference).abs() <= o.tol * free, "({i}, {j}): {:.2} x tol", (g - reference) / (o.tol * free));
+        }
+        // the same blocker through the middle of face 3: crossing
+        let through = triangles(&[[[-1.0, 0.5, 0.0], [0.5, 0.5, 0.0], [0.0, 0.25, 1.0]]]);
+        assert_eq!(clearance(&polys[3], &[&through[0]]), CROSSING_CLEARANCE);
+    }
+
+    /// Two faces 1e-5 from contact along an edge, a third hiding them from each other whole
+    /// (seed 32 of the long property run): the samples of the one start piece have a free F
+    /// 1e-10 .. 4e-9 and put its G at 1.5e-11 for 5.5e-7, all of it near the edge. At
+    /// obstructed_tol 1e-3 the piece integrated the hidden part (all of the point F there) and
+    /// G came out 0.99994 x the unobstructed G for 0; it now asks for its own G and integrates
+    /// the visible part, 0.
+    #[test]
+    fn a_steep_piece_below_the_goal_by_its_samples_asks_its_g() {
+        let polys = triangles(&[
+            [[0.0, 0.0, 0.0], [0.0, 0.0, 0.125], [0.0, -1.0, 0.0]],
+            [[0.0, 0.0, 0.0], [0.0, 0.0, 1.0], [-1.0, 0.0, 0.0]],
+            [[0.0, 0.0, 0.0], [0.0, 0.0, 1.0], [1.0, 0.0, 0.0]],
+            [[0.0, 0.0, 0.5], [0.0, 1.0, 0.0], [1e-5, 0.0, 0.0]],
+        ]);
+        let free = method::area_factor(&polys[0], &polys[3], Method::Analytic, &Default::default(), None).unwrap();
+        for tol in [1e-3, 1e-4, auto_tol()] {
+            let o = ClippingOptions { tol, ..Default::default() };
+            for (i, j) in [(0, 3), (3, 0)] {
+                let g = over_first(&polys, i, j, &o);
+                assert!(g <= tol * free, "({i}, {j}), tol {tol:e}: G {g:e}, {:.2e} x tol", g / (tol * free));
+            }
+        }
     }
 }
