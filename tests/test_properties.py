@@ -1057,6 +1057,35 @@ def test_replay_seed_32_blocker_crossing_beside_a_leaning_face():
     assert abs(f - reference) <= DEFAULT_OBSTRUCTED_TOL * free, (f - reference) / (DEFAULT_OBSTRUCTED_TOL * free)
 
 
+def test_replay_seed_33_vertex_a_rounding_behind_a_leaning_face():
+    # found by the long run with NUSSELT_HYPOTHESIS_SEED=33 (scene test) as "scaled and moved
+    # changes F by 1.81 x the bound" at the default obstructed_tol. Face 3 leans 6.1e-5 out of
+    # z = 0 over face 4 (both facing +z, open like a book nearly flat along the line from
+    # (0, -0.5, 0) to (-1, 0, 0)); they see each other across that line, F[3, 4] = 1.8598638e-9
+    # (a 30-digit contour integral: 1.85986384288e-9 at both placements). Face 4's vertex
+    # 2.2e-16 above z = 0 puts face 3's vertex (0, -0.5, 0) 1.1e-16 behind face 4's plane: face 3
+    # was kept whole (within the plane tolerance) while face 4 was cut where it crosses face 3's
+    # plane, 9.1e-13 off that vertex, and the two outlines overlapped by a sliver of 4.5e-13
+    # that the contour sum counted whole: F[3, 4] 1.858044836e-9 at the origin (-9.8e-4), the
+    # unobstructed kernel alike, and 1.859863839e-9 moved (where the 2.2e-16 rounds away).
+    # Faces 0-2 (in x = 0) hide nothing of the pair. Such a vertex is now cut off exactly
+    # (geometry::clip_pair): within 2.1e-9 of the reference at every placement tried
+    polys = [
+        [[0.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, 1.0, 0.0]],
+        [[0.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, -1.0, 0.0]],
+        [[0.0, 0.0, 0.0], [0.0, 0.0, -1.0], [0.0, 1.0, 0.0]],
+        [[0.0, -0.5, 0.0], [0.0, 0.0, 6.103515625e-05], [-1.0, 0.0, 0.0]],
+        [[-1.0, 0.0, 0.0], [0.0, -1.0, 2.220446049250313e-16], [0.0, 0.0, 0.0]],
+    ]
+    polys = [np.array(q) for q in polys]
+    for tol in (None, 1e-3):
+        _assert_moved_within(polys, tol=tol)
+    reference = 1.85986384288e-9
+    for method in ("analytic", "contour"):
+        f = nusselt.view_factor(polys[3], polys[4], method=method)
+        assert abs(f - reference) <= 1e-8 * reference, (method, f)
+
+
 # Found by the long run with NUSSELT_HYPOTHESIS_SEED=34 (scene test): face 0 leans 1e-8 and
 # face 2 1e-6 out of the plane x = 0, so face 0 lies in front of face 2 (seen from face 1)
 # on one side of the line where their planes cross (0.99 y + 1.5 z < 0.5) and hides that
