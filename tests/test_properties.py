@@ -1086,6 +1086,23 @@ def test_replay_seed_33_vertex_a_rounding_behind_a_leaning_face():
         assert abs(f - reference) <= 1e-8 * reference, (method, f)
 
 
+@pytest.mark.xfail(strict=True, reason="open: F[2, 4] 4.5 % low at obstructed_tol 1e-3 at the origin")
+def test_replay_seed_33_leaning_face_at_a_loose_tol():
+    # found by the same long run (seed 33) after the case above was fixed, after 18 min: "scaled
+    # and moved changes F by 16.1 x the bound" at obstructed_tol 1e-3 (0.04 x at the default).
+    # Face 2 leans 1e-5 (its vertex (1e-5, 0, -0.25)). F[2, 4] is 6.9369208e-3 at the origin and
+    # 7.2667229e-3 moved; clipping at tol 1e-9 (every other face an obstacle) gives 7.2664159e-3
+    # at both placements (F_free 1.0265e-2): the origin is 32 x tol x F_free low. Not diagnosed
+    polys = [
+        [[0.0, 0.0, 0.0], [0.0, 0.0, -0.25], [0.8448319428180837, 0.5, 0.0]],
+        [[0.0, 0.0, -0.25], [0.0, 0.0, 0.0], [1.0, 0.0, 0.0]],
+        [[0.0, -0.5, -0.25], [0.82421875, 0.0, -0.9375], [1e-05, 0.0, -0.25]],
+        [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 0.0]],
+        [[2.220446049250313e-16, -0.5, -0.9375], [0.0, 0.53125, -0.375], [0.0, 0.0, 0.0]],
+    ]
+    _assert_moved_within([np.array(q) for q in polys], tol=1e-3)
+
+
 # Found by the long run with NUSSELT_HYPOTHESIS_SEED=34 (scene test): face 0 leans 1e-8 and
 # face 2 1e-6 out of the plane x = 0, so face 0 lies in front of face 2 (seen from face 1)
 # on one side of the line where their planes cross (0.99 y + 1.5 z < 0.5) and hides that
