@@ -1152,3 +1152,26 @@ def test_replay_seed_34_blocker_hovering_over_the_other_side():
             DEFAULT_OBSTRUCTED_TOL * free
         )
     _assert_moved_within(polys)
+
+
+# Found by the long run with NUSSELT_HYPOTHESIS_SEED=35 (scene test, after 9 min), not yet
+# diagnosed: an obstacle raises some F by 1.45 x the slack, and scaling by 1e-6 and moving
+# changes some F by 1.44 x the bound, both at the default obstructed_tol (1e-3 is within).
+# Face 1 has a coordinate of 1e-60 (a rounding-scale y).
+SEED_35 = [
+    [[0.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, 1.0, 0.0]],
+    [[0.0, 0.0, 0.671875], [0.96875, 0.0, -0.828125], [-0.84375, 1e-60, -0.04296875]],
+    [[0.0, 0.0, -0.98046875], [0.0, -0.93359375, -0.6796875], [-0.13671875, 0.07095695185751683, 0.0]],
+    [[0.0, 0.06411104616764818, 0.0], [0.015625, -0.634765625, -0.40625], [-0.44257406402799526, 0.0, 0.0]],
+]
+
+
+@pytest.mark.xfail(strict=True, reason="open: seed 35, an obstacle raises F by 1.45 x the slack")
+def test_replay_seed_35_obstacle_raises_f():
+    obstacle = np.array([[0.0, 0.0, 0.0], [0.0, 1.0, 0.0], [-1.0, 1.0, -1.0]])
+    _assert_obstacle_only_takes_away([np.array(q) for q in SEED_35], obstacle)
+
+
+@pytest.mark.xfail(strict=True, reason="open: seed 35, scaled and moved 1.44 x the bound")
+def test_replay_seed_35_moved():
+    _assert_moved_within([np.array(q) for q in SEED_35])
