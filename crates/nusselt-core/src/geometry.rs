@@ -584,40 +584,43 @@ pub fn clip_to_halfspace(v: &[Vec3], p: Vec3, n: Vec3, tol: f64, out: &mut Vec<V
 
 /// [`clip_to_halfspace`] for the half-space where `height` (a signed distance) is >= 0.
 pub fn clip_by_height(v: &[Vec3], height: impl Fn(Vec3) -> f64, tol: f64, out: &mut Vec<Vec3>) {
-    let mut small = [0.0f64; 16];
-    let heap: Vec<f64>;
-    let d: &[f64] = if v.len() <= small.len() {
-        for (k, x) in v.iter().enumerate() {
-            small[k] = height(*x);
-        }
-        &small[..v.len()]
-    } else {
-        heap = v.iter().map(|x| height(*x)).collect();
-        &heap
-    };
-    clip_by_heights(v, d, tol, out)
+    with_snapped(v.len(), |k| height(v[k]), tol, |d| clip_by_distances(v, d, out))
 }
 
 /// [`clip_by_height`] with the heights `h` of the vertices `v` given.
 fn clip_by_heights(v: &[Vec3], h: &[f64], tol: f64, out: &mut Vec<Vec3>) {
+    with_snapped(v.len(), |k| h[k], tol, |d| clip_by_distances(v, d, out))
+}
+
+/// `then` of the values f(0..m), those within `tol` of 0 set to 0 (a vertex within rounding
+/// of the plane lies on it), on the stack for the usual small polygons.
+fn with_snapped<R>(m: usize, f: impl Fn(usize) -> f64, tol: f64, then: impl FnOnce(&[f64]) -> R) -> R {
+    let snap = |k: usize| {
+        let s = f(k);
+        if s.abs() <= tol {
+            0.0
+        } else {
+            s
+        }
+    };
+    let mut small = [0.0f64; 16];
+    if m <= small.len() {
+        for (k, d) in small[..m].iter_mut().enumerate() {
+            *d = snap(k);
+        }
+        then(&small[..m])
+    } else {
+        then(&(0..m).map(snap).collect::<Vec<f64>>())
+    }
+}
+
+/// The part of polygon `v` where the signed distances `d` (one per vertex) are >= 0.
+fn clip_by_distances(v: &[Vec3], d: &[f64], out: &mut Vec<Vec3>) {
     out.clear();
     let m = v.len();
     if m == 0 {
         return;
     }
-    // signed distances, on the stack for the usual small polygons
-    let dist = |s: f64| if s.abs() <= tol { 0.0 } else { s };
-    let mut small = [0.0f64; 16];
-    let heap: Vec<f64>;
-    let d: &[f64] = if m <= small.len() {
-        for (k, &s) in h.iter().enumerate() {
-            small[k] = dist(s);
-        }
-        &small[..m]
-    } else {
-        heap = h.iter().map(|&s| dist(s)).collect();
-        &heap
-    };
     if d.iter().all(|&s| s >= 0.0) {
         out.extend_from_slice(v);
         return;

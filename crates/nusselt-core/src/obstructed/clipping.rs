@@ -448,6 +448,11 @@ fn inside_triangle(t: &[Vec3; 3], x: Vec3, eps: f64) -> bool {
     })
 }
 
+/// The least and the greatest of non-negative values (infinity and 0 for none).
+fn bounds(values: impl Iterator<Item = f64>) -> (f64, f64) {
+    values.fold((f64::INFINITY, 0.0_f64), |(lo, hi), v| (lo.min(v), hi.max(v)))
+}
+
 /// Most integrand evaluations one adaptive source integral may spend (about 0.1-1 s).
 pub const MAX_SOURCE_EVALS: usize = 60_000;
 
@@ -667,7 +672,7 @@ fn adaptive_over_source(
         samples.clear();
         samples.extend(rule_points(&rule, &t).map(|(x, w)| (x, w, point(x, &bl, false))));
         evals.set(evals.get() + rule.len());
-        let (lo, hi) = samples.iter().fold((f64::INFINITY, 0.0_f64), |(lo, hi), s| (lo.min(s.2 .0), hi.max(s.2 .0)));
+        let (lo, hi) = bounds(samples.iter().map(|s| s.2 .0));
         // (the free F only where the hidden part is steep: a contour sum per sample saved)
         if hi > COARSE_SPREAD * lo && lo > 0.0 {
             for (x, _, v) in samples.iter_mut() {
@@ -677,13 +682,14 @@ fn adaptive_over_source(
         let free = if samples.iter().all(|s| mostly_hidden(s.2)) {
             let rough: f64 = samples.iter().map(|&(_, w, v)| w * v.1.unwrap_or(0.0)).sum();
             let allowed = PIECE_FREE_TOL * goal;
-            let (flo, fhi) = samples.iter().fold((f64::INFINITY, 0.0_f64), |(lo, hi), s| {
-                let f = s.2 .1.unwrap_or(0.0);
-                (lo.min(f), hi.max(f))
-            });
+            // (the free F at the samples spreads: asked only when the samples' G is small)
+            let free_spreads = || {
+                let (flo, fhi) = bounds(samples.iter().map(|s| s.2 .1.unwrap_or(0.0)));
+                fhi > COARSE_SPREAD * flo
+            };
             if rough > allowed {
                 (integrand.piece_free)(&t, allowed / rough)
-            } else if fhi > COARSE_SPREAD * flo {
+            } else if free_spreads() {
                 // (samples whose free F spreads may all lie below its rise towards an edge
                 // or vertex the pair shares: the piece's own G says, to a tenth of the goal)
                 (integrand.piece_free)(&t, PIECE_FREE_TOL * o.tol).filter(|&g| g > allowed)
@@ -696,10 +702,7 @@ fn adaptive_over_source(
         let visible = free.is_some();
         offset += free.unwrap_or(0.0);
         let whole = samples.iter().map(|&(_, w, v)| w * part(visible, v)).sum::<f64>();
-        let (least, most) = samples.iter().fold((f64::INFINITY, 0.0_f64), |(lo, hi), &(_, _, v)| {
-            let v = part(visible, v);
-            (lo.min(v), hi.max(v))
-        });
+        let (least, most) = bounds(samples.iter().map(|&(_, _, v)| part(visible, v)));
         // A start piece all of whose samples are 0 although a blocker meets its shaft may hold
         // a shadow that starts between them (its centroid is 0 too, so the coarse estimate is
         // 0): it gets its children. First seen next to where a blocker reaches the source's
@@ -821,6 +824,12 @@ mod tests {
         let free = polygon_pair_within(a, b, 0.0);
         let (hidden, _) = hidden_over((a, b, sa, sb), &blockers, &cast, o.tol * free, o);
         (free - hidden).clamp(0.0, free)
+    }
+
+    /// A uniformly random point of triangle t.
+    fn in_triangle(rng: &mut crate::visibility::bvh::tests::Rng, t: &Polygon) -> Vec3 {
+        let w = t.vertices();
+        crate::sampling::uniform_triangle([rng.f(), rng.f()], w[0], w[1], w[2])
     }
 
     /// Triangles from literal vertex lists.
@@ -1079,16 +1088,8 @@ mod tests {
         ];
         let polys = triangles(&raw);
         let mut rng = Rng::new(3);
-        let mut point = |t: &Polygon| {
-            let (mut u, mut v) = (rng.f(), rng.f());
-            if u + v > 1.0 {
-                (u, v) = (1.0 - u, 1.0 - v);
-            }
-            let w = t.vertices();
-            w[0] + u * (w[1] - w[0]) + v * (w[2] - w[0])
-        };
         for _ in 0..10_000 {
-            let (x, y) = (point(&polys[4]), point(&polys[2]));
+            let (x, y) = (in_triangle(&mut rng, &polys[4]), in_triangle(&mut rng, &polys[2]));
             let t = ray_polygon(&polys[3], x, y - x).expect("face 3 hides the segment");
             assert!(t > 0.0 && t < 1.0);
         }
@@ -1462,6 +1463,15 @@ mod tests {
             [[0.0, 0.0, 0.0], [0.0, 0.0, 1.0], [1.0, 0.0, 0.0]],
             [[0.0, 0.0, 0.5], [0.0, 1.0, 0.0], [1e-5, 0.0, 0.0]],
         ]);
+        // (independent of the integration: faces 1 and 2 together cross every segment between
+        // random points of faces 0 and 3)
+        use crate::visibility::bvh::tests::{ray_polygon, Rng};
+        let mut rng = Rng::new(5);
+        for _ in 0..10_000 {
+            let (x, y) = (in_triangle(&mut rng, &polys[0]), in_triangle(&mut rng, &polys[3]));
+            let hit = |k: usize| ray_polygon(&polys[k], x, y - x).is_some_and(|t| t > 0.0 && t < 1.0);
+            assert!(hit(1) || hit(2), "{x} -> {y}");
+        }
         let free = method::area_factor(&polys[0], &polys[3], Method::Analytic, &Default::default(), None).unwrap();
         for tol in [1e-3, 1e-4, auto_tol()] {
             let o = ClippingOptions { tol, ..Default::default() };
