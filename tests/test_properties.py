@@ -1117,27 +1117,15 @@ def test_replay_seed_33_leaning_face_at_a_loose_tol():
 SEED_34_F12 = 4.1891645392e-4
 
 
-@pytest.mark.xfail(
-    strict=True, reason="open: the near-p cut of cast_into leaks light past a blocker within 1e-6 d of p"
-)
 def test_replay_seed_34_blocker_hovering_over_the_other_side():
     # "scaled and moved changes F[1, 2] by 164 x the bound" at the default obstructed_tol.
-    # Integrated over face 1 (clearance 0.083) the point F of the hidden part peaks where S
-    # touches face 1's edge; at max depth the estimate stays at 1.1e-8 of G for a goal of
-    # 2.9e-10 (hidden G 7.786880e-5, 0.5 x the goal off the reference 7.786866e-5), so face 2
-    # is integrated too and replaces it (sides within SIDES_DISAGREE x their estimates, the
-    # smaller estimate). Over face 2 the integrand is wrong near the crossing line: a point
-    # of S at distance d from it has face 0 only ~1.8e-6 d above it, and cast_into cuts the
-    # blocker `near` below p's height over face 1 (NEAR_P_ABS x p's coordinates: 3.3e-13 at
-    # the origin, 1.9e-18 moved, i.e. 7.7 x wider relative to the scene); that strip covers
-    # a wide cone from p, so light leaks (d = 1e-6: hidden point F 0.4175 at the origin,
-    # 0.1164 moved, for the exact ~0.5262; d = 1e-5: 0.5196 / 0.4683). Hidden G over face 2:
-    # origin 7.786868e-5 at tol 1e-6 (err 5e-12; the band unresolved), 7.785798e-5 at tol
-    # 1e-10 (err 2e-10, 37 x the default goal short), moved 7.777420e-5 (err 9e-10, 328 x):
-    # F[1, 2] 4.1891646e-4 / 4.1893777e-4 / 4.1910469e-4. The origin at the default is right
-    # only because its band stays between samples. Needs the blocker clipped to the pyramid
-    # p -> window before the near cut (or the cut's edge projected to the window), not a
-    # tuning of SIDES_DISAGREE
+    # Integrated over face 2, a point of S at distance d from the crossing line has face 0 only
+    # ~1.8e-6 d above it. The exact point visibility cut the blocker a little below p's height
+    # over face 1 (2.2e-13 of p's coordinates, 7.7 x wider relative to the scene when moved) to
+    # keep the central projection finite; that strip covered a wide cone from p and light
+    # leaked (d = 1e-6: hidden point F 0.4175 at the origin, 0.1164 moved, for ~0.5262):
+    # F[1, 2] 4.1891646e-4 / 4.1910469e-4 (moved, 328 x the goal off). A blocker near p's
+    # height now casts the exact cone from p over it, cut by half-planes on the receiver
     polys = [
         [[0.0, 0.0, 0.0], [0.0, 0.0, 1.0], [1e-08, 1.0, 0.0]],
         [[0.0, 0.0, 0.0625], [0.0, 1.0, 0.0], [1.0, 0.0, 0.0]],

@@ -102,10 +102,11 @@ struct Cast {
     shadows: Pieces,
     /// The receiver's bounding box grown by 1 %: shadows are bounded by it for the boolean.
     window: ([f64; 2], [f64; 2]),
-    /// scratch: a blocker being clipped in 3-D, one shadow in 2-D
+    /// scratch: a blocker being clipped in 3-D, one shadow in 2-D (two buffers)
     cur: Vec<Vec3>,
     next: Vec<Vec3>,
     s: Vec<[f64; 2]>,
+    t: Vec<[f64; 2]>,
 }
 
 thread_local! {
@@ -142,7 +143,7 @@ fn cast_into(p: Vec3, n: Vec3, receiver: &Polygon, blockers: &[&Polygon], out: &
     if h_p <= tol {
         return false;
     }
-    let Cast { frame, rec, rec2, shadows, window, cur, next, s } = out;
+    let Cast { frame, rec, rec2, shadows, window, cur, next, s, t } = out;
     clip_to_halfspace(receiver.vertices(), p, n, tol, rec);
     if rec.len() < 3 || newell_normal(rec).dot(nr) <= 1e-14 * r * r {
         return false;
@@ -232,6 +233,12 @@ fn cast_into(p: Vec3, n: Vec3, receiver: &Polygon, blockers: &[&Polygon], out: &
                     continue;
                 }
             } else {
+                // close to p's height: the exact cone from p over the blocker, unless p lies
+                // within rounding of the blocker's plane (or the blocker is concave)
+                if cone_shadows(p, b, frame, *window, s, t, shadows) {
+                    continue;
+                }
+                s.clear();
                 if !pyramid {
                     set_pyramid(&mut clip_planes);
                     pyramid = true;
@@ -243,17 +250,112 @@ fn cast_into(p: Vec3, n: Vec3, receiver: &Polygon, blockers: &[&Polygon], out: &
                 s.extend(cur.iter().map(|x| project(*x)));
             }
         }
-        drop_close(s);
-        let a = signed_area(s);
-        if !(a.abs() > 1e-15) || !a.is_finite() {
-            continue; // edge-on blocker (its plane passes through p): no area
-        }
-        if a < 0.0 {
-            s.reverse();
-        }
-        shadows.push(s);
+        push_shadow(s, shadows);
     }
     true
+}
+
+/// Appends the shadow `s` (2-D, either orientation) to `shadows`, counter-clockwise, unless it
+/// has no area (an edge-on blocker, whose plane passes through p).
+fn push_shadow(s: &mut Vec<[f64; 2]>, shadows: &mut Pieces) {
+    drop_close(s);
+    let a = signed_area(s);
+    if !(a.abs() > 1e-15) || !a.is_finite() {
+        return;
+    }
+    if a < 0.0 {
+        s.reverse();
+    }
+    shadows.push(s);
+}
+
+/// The shadow of a convex blocker that comes close to p's height, without projecting any of
+/// its points: a point y of the receiver's plane is hidden exactly when y lies beyond the
+/// blocker's plane (seen from p) and inside the cone from p over the blocker, i.e. on the
+/// inner side of each plane through p and an edge of the blocker. Each condition is a
+/// half-plane on the receiver's plane, so the shadow is the window cut by them (pushed into
+/// `shadows`; one per triangle of a fan, so that each plane is exact).
+///
+/// The central projection that this replaces divides by p's depth above each point; near p's
+/// height that depth is rounding, so the blocker had to be cut a little below p, and where it
+/// passes within about that cut's width of p (a face hovering 1e-12 over a source point), the
+/// strip cut off covers a wide cone and light leaked through it. Here the inputs are the
+/// blocker's own vertices (far from p) and the sign of p's height e over each triangle's
+/// plane: for a counter-clockwise triangle, det(a_k - p, a_k+1 - p, x - p) = -e x (twice the
+/// area of (a_k, a_k+1, x)) for x on the triangle's plane, so its inside is where
+/// -sign(e) (a_k - p) x (a_k+1 - p) . (y - p) >= 0 (docs/algorithms.md §6.3).
+///
+/// False, with nothing pushed, when the blocker is not convex or |e| is within 64 ulp of the
+/// coordinates for one of its triangles (p then lies on its plane within rounding, and which
+/// side it is on is noise); the caller then cuts and projects.
+fn cone_shadows(
+    p: Vec3,
+    b: &Polygon,
+    frame: &Frame,
+    window: ([f64; 2], [f64; 2]),
+    s: &mut Vec<[f64; 2]>,
+    t: &mut Vec<[f64; 2]>,
+    shadows: &mut Pieces,
+) -> bool {
+    let v = b.vertices();
+    if v.len() > 3 && !turns_left(v, crate::geometry::turn_about(b.normal()), -1e-12) {
+        return false;
+    }
+    let p_max = p.abs().max_element();
+    // p's height over the plane of the fan triangle (v0, v_k, v_k+1)
+    let height = |k: usize| {
+        let (a, bb, c) = (v[0], v[k], v[k + 1]);
+        let nt = (bb - a).cross(c - a).normalize();
+        let e = nt.dot(p - a);
+        let coords = a.abs().max(bb.abs()).max(c.abs()).max_element() + p_max;
+        (e.abs() > 64.0 * f64::EPSILON * coords && e.is_finite()).then_some((nt, e))
+    };
+    if (1..v.len() - 1).any(|k| height(k).is_none()) {
+        return false;
+    }
+    let (lo, hi) = window;
+    for k in 1..v.len() - 1 {
+        let Some((nt, e)) = height(k) else { return false };
+        let sign = -e.signum();
+        s.clear();
+        s.extend_from_slice(&[lo, [hi[0], lo[1]], hi, [lo[0], hi[1]]]);
+        let tri = [v[0], v[k], v[k + 1]];
+        // (normal m, point q): keep sign m . (y - q) >= 0
+        let edge = |i: usize| ((tri[i] - p).cross(tri[(i + 1) % 3] - p), p);
+        for (m, q) in [(nt, tri[0]), edge(0), edge(1), edge(2)] {
+            let m = sign * m / m.length();
+            // m . (y(u) - q) for y(u) = c + r (u0 tu + u1 tv), in units of r
+            let h = [m.dot(frame.c - q) / frame.r, m.dot(frame.tu), m.dot(frame.tv)];
+            clip_affine(s, h, t);
+            std::mem::swap(s, t);
+            if s.len() < 3 {
+                break;
+            }
+        }
+        if s.len() >= 3 {
+            push_shadow(s, shadows);
+        }
+    }
+    true
+}
+
+/// Sutherland-Hodgman: the part of the polygon `v` where h0 + h1 u0 + h2 u1 >= 0, into `out`.
+fn clip_affine(v: &[[f64; 2]], h: [f64; 3], out: &mut Vec<[f64; 2]>) {
+    out.clear();
+    let Some(&last) = v.last() else { return };
+    let d = |x: [f64; 2]| h[0] + h[1] * x[0] + h[2] * x[1];
+    let (mut x, mut dx) = (last, d(last));
+    for &y in v {
+        let dy = d(y);
+        if (dx > 0.0 && dy < 0.0) || (dx < 0.0 && dy > 0.0) {
+            let t = dx / (dx - dy);
+            out.push([x[0] + t * (y[0] - x[0]), x[1] + t * (y[1] - x[1])]);
+        }
+        if dy >= 0.0 {
+            out.push(y);
+        }
+        (x, dx) = (y, dy);
+    }
 }
 
 /// `cur` clipped successively to the half-spaces (point, inward normal), through `next`;

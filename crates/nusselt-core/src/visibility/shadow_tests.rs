@@ -764,3 +764,39 @@ fn a_partition_touching_the_floor_hides_with_the_band() {
         assert_eq!(passes, !hidden, "top {top}");
     }
 }
+
+/// A blocker in a plane parallel to p's surface element, a tiny height e in front of p, hides
+/// all of a receiver well in front of it when p's foot lies inside it (every ray crosses the
+/// blocker's plane within e |q - p| / (q - p).x of the foot, here < 1e-5) and nothing when
+/// the foot lies outside: the answer is the whole free F or 0, exactly. The cut of the
+/// projection a little below p's height (2.2e-13 of the coordinates) let every ray through
+/// below e of about 6e-13: F 0 became the whole free F.
+#[test]
+fn a_blocker_hovering_over_p_hides_all_or_nothing() {
+    let receiver = [[0.1, -0.5, 0.0], [1.0, -0.5, 0.0], [0.5, 0.8, 0.0]];
+    let over_foot = [[0.0, -3.0, -3.0], [0.0, 3.0, -3.0], [0.0, 0.0, 3.0]];
+    let beside_foot = [[0.0, 1.0, -3.0], [0.0, 4.0, -3.0], [0.0, 2.5, 3.0]];
+    let p0 = Vec3::new(0.0, 0.3, 0.5);
+    for (scale, shift) in [(1.0, 0.0), (1e-6, 7e-6), (1.0, 100.0), (1e6, -3e6f64)] {
+        for e in [3e-13, 1e-11, 1e-8, 1e-5] {
+            if e * scale <= 1e3 * f64::EPSILON * (shift.abs() + scale) {
+                continue; // p on the blocker's plane within rounding
+            }
+            let place = |v: &[[f64; 3]; 3], dx: f64| {
+                poly(&v.map(|q| [(q[0] + dx) * scale + shift, q[1] * scale + shift, q[2] * scale + shift]))
+            };
+            let rec = place(&receiver, 0.0);
+            let p = p0 * scale + Vec3::splat(shift);
+            let free = point_visible_view_factor(p, Vec3::X, &rec, &[]);
+            assert!(free > 0.05, "{free}");
+            let over = place(&over_foot, e);
+            let f = point_visible_view_factor(p, Vec3::X, &rec, &[&over]);
+            assert!(f <= 1e-12 * free, "scale {scale} shift {shift} e {e}: F {f} of {free} left");
+            let hidden = point_shadowed_view_factor(p, Vec3::X, &rec, &[&over]);
+            assert!((hidden - free).abs() <= 1e-12 * free, "scale {scale} shift {shift} e {e}: {hidden} of {free}");
+            let beside = place(&beside_foot, e);
+            let f = point_visible_view_factor(p, Vec3::X, &rec, &[&beside]);
+            assert!((f - free).abs() <= 1e-12 * free, "scale {scale} shift {shift} e {e}: F {f} for {free}");
+        }
+    }
+}
