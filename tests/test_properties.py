@@ -1155,12 +1155,19 @@ SEED_35 = [
 ]
 
 
-@pytest.mark.xfail(strict=True, reason="open: seed 35, an obstacle raises F by 1.45 x the slack")
+# Both failed on F[1, 2] of the scene without the obstacle: 8.4536329e-3 for 8.45365862264e-3
+# (independent reference: 40-digit unobstructed F less the hidden part, Lambert's formula on the
+# receiver clipped to the blocker's projection, Gauss rules on the kink-cut source), 2.9 x
+# obstructed_tol off with the error estimate under its goal; with the obstacle and moved it was
+# right. Integrated over face 2, face 3 close beside its edge, a leaf two levels below a start
+# piece had samples spread 27-fold, its rule and its children's 0.07 % off and agreeing to 7e-11;
+# only start pieces that steep were held to a share of their children's linear gap (clipping.rs,
+# STEEP_SHARE), now every leaf is. Face 1's 1e-60 only decided where that leaf fell: it tilts the
+# plane so that face 2's vertex on it lies behind, and the part of face 2 starts at another vertex.
 def test_replay_seed_35_obstacle_raises_f():
     obstacle = np.array([[0.0, 0.0, 0.0], [0.0, 1.0, 0.0], [-1.0, 1.0, -1.0]])
     _assert_obstacle_only_takes_away([np.array(q) for q in SEED_35], obstacle)
 
 
-@pytest.mark.xfail(strict=True, reason="open: seed 35, scaled and moved 1.44 x the bound")
 def test_replay_seed_35_moved():
     _assert_moved_within([np.array(q) for q in SEED_35])
