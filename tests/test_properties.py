@@ -1087,21 +1087,50 @@ def test_replay_seed_33_vertex_a_rounding_behind_a_leaning_face():
         assert abs(f - reference) <= 1e-8 * reference, (method, f)
 
 
-@pytest.mark.xfail(strict=True, reason="open: F[2, 4] 4.5 % low at obstructed_tol 1e-3 at the origin")
+SEED_33_LEANING = [
+    [[0.0, 0.0, 0.0], [0.0, 0.0, -0.25], [0.8448319428180837, 0.5, 0.0]],
+    [[0.0, 0.0, -0.25], [0.0, 0.0, 0.0], [1.0, 0.0, 0.0]],
+    [[0.0, -0.5, -0.25], [0.82421875, 0.0, -0.9375], [1e-05, 0.0, -0.25]],
+    [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 0.0]],
+    [[2.220446049250313e-16, -0.5, -0.9375], [0.0, 0.53125, -0.375], [0.0, 0.0, 0.0]],
+]
+
+
 def test_replay_seed_33_leaning_face_at_a_loose_tol():
     # found by the same long run (seed 33) after the case above was fixed, after 18 min: "scaled
     # and moved changes F by 16.1 x the bound" at obstructed_tol 1e-3 (0.04 x at the default).
-    # Face 2 leans 1e-5 (its vertex (1e-5, 0, -0.25)). F[2, 4] is 6.9369208e-3 at the origin and
+    # Face 2 leans 1e-5 (its vertex (1e-5, 0, -0.25)). F[2, 4] was 6.9369208e-3 at the origin and
     # 7.2667229e-3 moved; clipping at tol 1e-9 (every other face an obstacle) gives 7.2664159e-3
-    # at both placements (F_free 1.0265e-2): the origin is 32 x tol x F_free low. Not diagnosed
-    polys = [
-        [[0.0, 0.0, 0.0], [0.0, 0.0, -0.25], [0.8448319428180837, 0.5, 0.0]],
-        [[0.0, 0.0, -0.25], [0.0, 0.0, 0.0], [1.0, 0.0, 0.0]],
-        [[0.0, -0.5, -0.25], [0.82421875, 0.0, -0.9375], [1e-05, 0.0, -0.25]],
-        [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 0.0]],
-        [[2.220446049250313e-16, -0.5, -0.9375], [0.0, 0.53125, -0.375], [0.0, 0.0, 0.0]],
-    ]
-    _assert_moved_within([np.array(q) for q in polys], tol=1e-3)
+    # at both placements (F_free 1.0265e-2): the origin was 32 x tol x F_free low. Faces 0 and 1
+    # cross face 2's plane 6.4e-6 deep, 3e-6 beside its corner, where the point F over face 2
+    # is steep: the start pieces there count their children's whole difference as error. Their
+    # traces were looked for in the plane of the first start piece, a sliver (2.6e-12 of the
+    # area) whose normal rounding tilted by 1.8e-5 rad, so that both blockers lay on one side:
+    # no trace, a quarter of the difference, and the corner piece (its rule 10 % off) kept.
+    # The traces are now taken in the source's own plane (clipping.rs,
+    # `the_traces_lie_in_the_plane_of_the_source`): 7.2667576e-3 at the origin (0.03 x tol)
+    _assert_moved_within([np.array(q) for q in SEED_33_LEANING], tol=1e-3)
+
+
+@pytest.mark.xfail(strict=True, reason="open: F[2, 4] 3.2 / 10.7 x tol low at obstructed_tol 1e-2 / 3e-3")
+def test_seed_33_leaning_face_against_the_reference():
+    # The case above, against the reference rather than moved: with the traces found, the start
+    # piece over face 2 at the corner near the blockers (its point F steep, samples 5.3e-4 ..
+    # 7.8e-3, rising towards the corner over decades of distance) has its rule 9.1e-5 of G
+    # off and its children's rule 8.8e-5 (the corner child carries the same error), so their
+    # difference, 3.1e-6, is all its estimate says; it meets the goal at 1e-2 and 3e-3 (2.75e-5
+    # and 8.3e-6) and F is 3.2 and 10.7 x tol low at both placements. At 1e-3 (goal 2.75e-6) the
+    # piece is refined and F is within 0.03 x. The steep-start share (STEEP_SHARE, the rule's
+    # gap to equal weights) says nothing for the equal-weight rule of targets from 1e-4 on
+    polys = [np.array(q) for q in SEED_33_LEANING]
+    s = 1e-6
+    for q in (polys, [s * p + 7 * s for p in polys]):
+        free = nusselt.view_factor(q[2], q[4])
+        obstacles = [q[0], q[1], q[3]]
+        reference = nusselt.view_factor(q[2], q[4], obstacles=obstacles, method="clipping", tol=1e-9)
+        for tol in (1e-2, 3e-3):
+            f = nusselt.view_factor(q[2], q[4], obstacles=obstacles, obstructed_tol=tol)
+            assert abs(f - reference) <= tol * free, (tol, (f - reference) / (tol * free))
 
 
 # Found by the long run with NUSSELT_HYPOTHESIS_SEED=34 (scene test): face 0 leans 1e-8 and
