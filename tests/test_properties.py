@@ -172,6 +172,23 @@ def _assert_obstacle_only_takes_away(polys, obstacle):
 
 
 # Found by the long run (NUSSELT_HYPOTHESIS=long, 10 000 examples).
+def test_replay_seed_36_overlap_across_a_thin_gap():
+    # found by the long run with NUSSELT_HYPOTHESIS_SEED=36 (pair test, after 77 s): a's third
+    # vertex is 1e-9 out of b's plane, and the two face each other across at most 7.4e-10 where
+    # their outlines overlap (4.2563e-4 of a's area; F is that share). The contour sum cancels
+    # 1e4-fold, and the area route's first samples missed the overlap: F 3.5e-16 when scaled
+    # by 1e-6 (right only at scale 1). The source is now cut along the target's projected
+    # outline first, so the overlap is a piece of its own
+    a = np.array([[0.0, 0.0, 0.0], [-0.3125, 0.875, 0.0], [-0.0703125, 0.25, 1e-9]])
+    b = np.array([[0.25, 0.0, 0.0], [0.5, 0.0, 0.0], [-0.09765625, 0.3125, 0.0]])
+    reference = float(view_factor_mp(a, b))
+    assert abs(reference - 4.2563096465e-4) < 1e-14
+    for s in (1e-6, 1e-3, 0.1, 1.0, 3.0, 1e3, 1e6):
+        for method in ("analytic", "contour", "auto"):
+            f = nusselt.view_factor(s * a, s * b, method=method)
+            assert abs(f - reference) <= 1e-12, (s, method, f)
+
+
 def test_replay_nearly_touching_pair_scaled():
     # planes 1e-9 rad apart, piercing each other: the cut was placed by heights rounded to
     # eps of the coordinates (1e-7 of the heights), 1.27e-8 apart at 1e-6
