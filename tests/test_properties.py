@@ -103,7 +103,11 @@ def test_scene_invariants(polys, obstacle, s):
     free = nusselt.form_factors(free_scene)
     F = free.matrix.toarray()
     assert F.min() >= 0.0 and F.max() <= 1.0
-    assert F.sum(axis=1).max() <= 1.0 + 1e-9
+    # rows: each F within obstructed_tol x F_free where faces may block each other (seed 36:
+    # F[0, 2] 1e-8 high of 1.0, a row 1 + 1e-8), exact to rounding where none can
+    free_f = _free(free_scene.polygons)
+    slack = 0.0 if free_scene._core.unobstructed() else DEFAULT_OBSTRUCTED_TOL * free_f.sum(axis=1)
+    assert (F.sum(axis=1) <= 1.0 + 1e-9 + slack).all()
     G = free.areas[:, None] * F
     assert np.allclose(G, G.T, rtol=1e-12, atol=0.0)
     try:
@@ -114,7 +118,6 @@ def test_scene_invariants(polys, obstacle, s):
     blocked = nusselt.form_factors(scene).matrix.toarray()
     assert blocked.min() >= 0.0
     # an obstacle only takes away, up to each result's error: obstructed_tol x F_free each
-    free_f = _free(free_scene.polygons)
     slack = 2 * DEFAULT_OBSTRUCTED_TOL * free_f + 1e-12
     assert (blocked <= F + slack).all(), np.max((blocked - F) / slack)
     Gb = free.areas[:, None] * blocked
@@ -919,8 +922,16 @@ def test_replay_seed_29_a_kink_past_the_split_limit():
 SEED_30_OBSTACLE = [[0.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, 1.0, 0.0]]
 
 
-@pytest.mark.xfail(strict=True, reason="open: an obstacle raises F beside a face leaning 6e-8")
 def test_replay_seed_30_obstacle_beside_a_leaning_face():
+    # F[4, 2] without the obstacle was 2.953642e-4 at every tol, with it 2.954532e-4, for
+    # 2.95451e-4 (graded Gauss over face 4 of the exact point F: 2.954492e-4 / 2.954520e-4 with
+    # 6 / 10 points a panel, panels graded by 10 down to 1e-12 towards every line where the
+    # point F has a kink or a band).
+    # Integrated over face 2 it ran out of evaluations (estimate 12 x the goal) 6e-9 from that;
+    # face 4's side, which face 3 covers flat 6e-8 above it, claimed 4.3e-9 and was 9e-8 off
+    # (a band as wide as that height missed) but replaced face 2's, the two agreeing within
+    # SIDES_DISAGREE times their estimates. A side a blocker lies flat over no longer
+    # replaces the other (clipping.rs, `lies_flat_over`)
     polys = [
         [
             [0.0, 0.0, 0.0],
@@ -949,6 +960,10 @@ def test_replay_seed_30_obstacle_beside_a_leaning_face():
         ],
     ]
     _assert_obstacle_only_takes_away([np.array(q) for q in polys], np.array(SEED_30_OBSTACLE))
+    p = [np.array(q) for q in polys]
+    free = nusselt.view_factor(p[4], p[2])
+    f = nusselt.view_factor(p[4], p[2], obstacles=[p[0], p[1], p[3]])
+    assert abs(f - 2.95451e-4) <= DEFAULT_OBSTRUCTED_TOL * free, (f - 2.95451e-4) / (DEFAULT_OBSTRUCTED_TOL * free)
 
 
 @pytest.mark.xfail(strict=True, reason="open: a sliver 6e-8 wide, hidden whole, integrated from afar")
@@ -1217,3 +1232,44 @@ def test_replay_seed_35_obstacle_raises_f():
 
 def test_replay_seed_35_moved():
     _assert_moved_within([np.array(q) for q in SEED_35])
+
+
+# Found by the long run with NUSSELT_HYPOTHESIS_SEED=36 (scene test, after 10 000 clean cases of
+# the pair test and 22 min): face 0 leans 1e-8 out of the plane y = 0 beside face 2 (in y = 0),
+# the two sharing the line y = z = 0, and face 1 lies in z = 0, standing on that line between
+# them. Every ray from face 0 to face 2 crosses z = 0 within the 1e-8 gap, where face 1 is
+# (except beyond x = 0), and the unobstructed F (1.0e-8, 40 digits) comes from a band about
+# 1e-8 wide along the common line, where the rays are steep. The point F is right there (from
+# face 0 at z = 1e-8: 5.3e-2 free, 7.4e-10 past face 1), but the integral over the source,
+# whose samples lie far from the band (74 % hidden there), misses it: F[0, 2] = 1.0e-8 at
+# every obstructed_tol and placement, `clipping` at tol 1e-10 9.993e-9, for 3.0e-12 (graded
+# Gauss over face 0 of the exact point F past face 1, 6 points a panel, panels graded by 10
+# towards the edges down to 1e-15; the free F the same way 9.9947e-9). Open
+SEED_36_SHARED_LINE = [
+    [[0.0, 0.0, 0.0], [0.0, 0.0, 0.5], [-1.0, 1e-08, 0.0]],
+    [[0.0, 0.0, 0.0], [0.0, 1.0, 0.0], [-1.0, 0.0, 0.0]],
+    [[0.0, 0.0, 0.0], [1.0, 0.0, -1.0], [-1.0, 0.0, 0.0]],
+]
+
+
+@pytest.mark.xfail(strict=True, reason="open: a hidden band 1e-8 wide along the shared line is missed")
+def test_replay_seed_36_blocker_on_the_shared_line():
+    p = [np.array(q) for q in SEED_36_SHARED_LINE]
+    free = nusselt.view_factor(p[0], p[2])
+    assert abs(free - 9.99999450531876e-9) <= 1e-12 * free  # 40-digit contour integral
+    for q in (p, [1e-6 * x + 7e-6 for x in p]):
+        f = nusselt.form_factors(nusselt.Scene.from_polygons(q)).matrix.toarray()[0, 2]
+        assert abs(f - 3.0e-12) <= 0.01 * free, f / free
+
+
+def test_replay_seed_36_row_sum_past_the_shared_line():
+    # the same faces 0 and 1, face 2 now covering face 0 (z from -1 to 1): F[0, 2] = 1.0 and
+    # F[0, 1] = 1.0e-8 (the sliver of face 1 in front of face 0), row sum 1 + 1e-8: F[0, 2]
+    # keeps the part of face 2 below z = 0, which face 1 hides but for that band. That is
+    # within obstructed_tol x F_free (1e-6 x 1.0), the accuracy promised, so the row may
+    # exceed 1 by that much (the scene test held rows to 1 + 1e-9 until seed 36)
+    p = [np.array(q) for q in SEED_36_SHARED_LINE[:2]]
+    p.append(np.array([[0.0, 0.0, 1.0], [0.0, 0.0, -1.0], [-1.0, 0.0, 0.0]]))
+    F = nusselt.form_factors(nusselt.Scene.from_polygons(p)).matrix.toarray()
+    bound = 1.0 + DEFAULT_OBSTRUCTED_TOL * _free(p).sum(axis=1)
+    assert (F.sum(axis=1) <= bound).all(), F.sum(axis=1) - 1.0
