@@ -909,8 +909,8 @@ def test_replay_seed_29_a_kink_past_the_split_limit():
 
 # Found by the long run with NUSSELT_HYPOTHESIS_SEED=30 (after 10 000 clean cases of the pair
 # test): in both, face 4 leans 2^-24 (6e-8) out of the plane x = 0 that other faces lie in, and
-# the part of it in front of its partner is a sliver that wide. The first is open: the
-# obstacle raises F[4, 2] at tol 1e-9 too (2.9545e-4 for 2.9538e-4). In the second, faces 0
+# the part of it in front of its partner is a sliver that wide. The first: see the test. In
+# the second, faces 0
 # and 1 hide that sliver from face 3 whole (an exact segment test on 40 000 sampled pairs: all
 # hidden; every segment from face 3 to it crosses x = 0 at z >= 0, the blockers' edge lying
 # on face 3's edge). Scaled by 1e-6 and moved, F[4, 3] was the free 8.729e-9 (the shaft of the
@@ -931,9 +931,9 @@ def test_replay_seed_30_obstacle_beside_a_leaning_face():
     # F[4, 2] without the obstacle was 2.953642e-4 at every tol, with it 2.954532e-4, for
     # 2.95451e-4 (graded Gauss over face 4 of the exact point F: 2.954492e-4 / 2.954520e-4 with
     # 6 / 10 points a panel, panels graded by 10 down to 1e-12 towards every line where the
-    # point F has a kink or a band).
-    # Integrated over face 2 it ran out of evaluations (estimate 12 x the goal) 6e-9 from that;
-    # face 4's side, which face 3 covers flat 6e-8 above it, claimed 4.3e-9 and was 9e-8 off
+    # point F has a kink or a band). Integrated over face 2 it ran out of evaluations
+    # (estimate 12 x the goal) 6e-9 from that; face 4's side, which face 3 covers flat 6e-8
+    # above it, claimed 4.3e-9 and was 9e-8 off
     # (a band as wide as that height missed) but replaced face 2's, the two agreeing within
     # SIDES_DISAGREE times their estimates. A side a blocker lies flat over no longer
     # replaces the other (clipping.rs, `lies_flat_over`)

@@ -1617,8 +1617,9 @@ mod tests {
 
     /// Face 4 leans 2^-24 out of the plane of face 3, which covers it 6e-8 above (seed 30 of
     /// the long property run): F to face 2 past face 3 is 2.95451e-4 (graded Gauss over face 4
-    /// of the exact point F, 2.954492e-4 / 2.954520e-4 with 6 / 10 points a panel). Over face 2 the integral runs out of evaluations 6e-9 from that;
-    /// face 4's side claimed 4.3e-9 and was 9e-8 off, and replaced it: 4.6 x tol at 1e-6.
+    /// of the exact point F, 2.954492e-4 / 2.954520e-4 with 6 / 10 points a panel). Over face
+    /// 2 the integral runs out of evaluations 6e-9 from that; face 4's side claimed 4.3e-9 and
+    /// was 9e-8 off, and replaced it: 5 x tol at 1e-6.
     #[test]
     fn a_side_a_blocker_lies_flat_over_does_not_replace_the_other() {
         let a = -5.960464477539063e-08;
