@@ -326,7 +326,7 @@ fn cone_shadows(
             let m = sign * m / m.length();
             // m . (y(u) - q) for y(u) = c + r (u0 tu + u1 tv), in units of r
             let h = [m.dot(frame.c - q) / frame.r, m.dot(frame.tu), m.dot(frame.tv)];
-            clip_affine(s, h, t);
+            clip_where(s, |u| h[0] + h[1] * u[0] + h[2] * u[1], t);
             std::mem::swap(s, t);
             if s.len() < 3 {
                 break;
@@ -339,11 +339,13 @@ fn cone_shadows(
     true
 }
 
-/// Sutherland-Hodgman: the part of the polygon `v` where h0 + h1 u0 + h2 u1 >= 0, into `out`.
-fn clip_affine(v: &[[f64; 2]], h: [f64; 3], out: &mut Vec<[f64; 2]>) {
+/// Sutherland-Hodgman: the part of the polygon `v` where `d` (affine in the point) is >= 0,
+/// into `out` (each vertex's side computed once: edge (x, y) for x = previous vertex). A concave
+/// polygon may come out with edges doubled back along the line, which area-based uses do not
+/// mind.
+fn clip_where(v: &[[f64; 2]], d: impl Fn([f64; 2]) -> f64, out: &mut Vec<[f64; 2]>) {
     out.clear();
     let Some(&last) = v.last() else { return };
-    let d = |x: [f64; 2]| h[0] + h[1] * x[0] + h[2] * x[1];
     let (mut x, mut dx) = (last, d(last));
     for &y in v {
         let dy = d(y);
@@ -682,27 +684,11 @@ fn split_2d(v: &[[f64; 2]], u: [f64; 2], w: [f64; 2], left: &mut Vec<[f64; 2]>, 
     true
 }
 
-/// Sutherland-Hodgman: the part of the polygon `v` left of the directed line u -> w
-/// (`left`) or right of it, into `out` (a concave polygon may come out with edges doubled
-/// back along the line, which area-based uses do not mind).
+/// [`clip_where`]: the part of the polygon `v` left of the directed line u -> w (`left`) or
+/// right of it.
 fn clip_2d(v: &[[f64; 2]], u: [f64; 2], w: [f64; 2], left: bool, out: &mut Vec<[f64; 2]>) {
-    out.clear();
-    let Some(&last) = v.last() else { return };
     let sign = if left { 1.0 } else { -1.0 };
-    let d = |x: [f64; 2]| sign * orient(u, w, x);
-    // each vertex's side is computed once: edge (x, y) for x = previous vertex
-    let (mut x, mut dx) = (last, d(last));
-    for &y in v {
-        let dy = d(y);
-        if (dx > 0.0 && dy < 0.0) || (dx < 0.0 && dy > 0.0) {
-            let t = dx / (dx - dy);
-            out.push([x[0] + t * (y[0] - x[0]), x[1] + t * (y[1] - x[1])]);
-        }
-        if dy >= 0.0 {
-            out.push(y);
-        }
-        (x, dx) = (y, dy);
-    }
+    clip_where(v, |x| sign * orient(u, w, x), out)
 }
 
 /// Twice the signed area of (u, w, x): positive when x is left of u -> w.
