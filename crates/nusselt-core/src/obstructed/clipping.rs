@@ -352,9 +352,10 @@ const COARSE_SPREAD: f64 = 3.0;
 /// (3e-3 left the first at 3.4 x); the room with a crate of bench/scenes.py at 1e-6 spends
 /// 8.5 % more work units (3.95 -> 4.29 M), the 391-surface building at the default 1.3 %
 /// (107.5 -> 108.9 M); at targets from LOW_DEGREE_TOL on the rule is itself equal-weight, its
-/// gap 0, and [`uncancelled_difference`] takes its place. First for start pieces only; a leaf two levels down is as steep (seed 35
-/// of tests/test_properties.py: 2.9 x tol off at the default), and for every leaf the building
-/// at the default spends 0.5 % more (107.17 -> 107.74 M).
+/// gap 0, and [`uncancelled_difference`] takes its place. First for start pieces only; a
+/// leaf two levels down is as steep (seed 35 of tests/test_properties.py: 2.9 x tol off at
+/// the default), and for every leaf the building at the default spends 0.5 % more (107.17 ->
+/// 107.74 M).
 const STEEP_SHARE: f64 = 0.01;
 
 /// Share of its value that a steep start piece (samples spread by more than COARSE_SPREAD)
