@@ -1292,7 +1292,11 @@ def test_replay_seed_36_row_sum_past_the_shared_line():
 # obstructed_tol. `view_factor(P[4], P[1])` past faces 0, 2, 3 by clipping: without the
 # obstacle 0.1134661609 at tol 1e-6 and 0.1134660127 at 1e-8 and 1e-10; with it 0.1134670733
 # at 1e-6 (8.8 x tol x F_free above the tight value, F_free 0.11967) and 0.1134660130 at 1e-8
-# and 1e-10 (still 2.6e-10 above the value without it, 20 x the goal at 1e-10). Not diagnosed
+# and 1e-10 (still 2.6e-10 above the value without it, 20 x the goal at 1e-10). The pair is
+# integrated over face 1 (a blocker crosses face 4's plane, clearance 0.017 against 0.1): at
+# 1e-6 that side meets its goal (estimate 3.19e-8 for a goal of 3.19e-8) with the obstacle
+# 2.8e-7 off in G; at 1e-10 neither side converges in 60 000 evaluations (estimates 1.7e-8 /
+# 3.2e-9), and face 4's, the smaller, is kept. Not diagnosed further
 SEED_37 = [
     [[0.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.25, 1.0, 0.0]],
     [[0.0, 0.0, 0.576171875], [0.9375, 0.0, 0.0], [-0.328125, 0.904296875, -1.0]],
