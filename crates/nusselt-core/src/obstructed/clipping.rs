@@ -1646,13 +1646,9 @@ mod tests {
         }
     }
 
-    /// Face 2 leans 1e-5 (seed 33 of the long property run): its corner (1e-5, 0, -0.25) lies
-    /// 1e-5 above face 4, beside the edge that faces 0 and 1 share on face 4, and both cross
-    /// face 2's plane 6.4e-6 deep there. The first start piece over face 2 is a sliver whose
-    /// plane missed their traces (see `adaptive_over_source`): at obstructed_tol 1e-3 G was
-    /// 32 x tol low at the origin, 0.03 x where the scene is scaled by 1e-6 and moved.
-    #[test]
-    fn the_traces_lie_in_the_plane_of_the_source() {
+    /// The seed-33 scene of the long property run (face 2 leans 1e-5) at the origin and scaled
+    /// by 1e-6 and moved by 7e-6, with the factor its G scales by.
+    fn seed_33_placements() -> [(Vec<Polygon>, f64); 2] {
         let raw = [
             [[0.0, 0.0, 0.0], [0.0, 0.0, -0.25], [0.8448319428180837, 0.5, 0.0]],
             [[0.0, 0.0, -0.25], [0.0, 0.0, 0.0], [1.0, 0.0, 0.0]],
@@ -1662,8 +1658,18 @@ mod tests {
         ];
         let s = 1e-6;
         let moved = raw.map(|p| p.map(|v| v.map(|x| s * x + 7.0 * s)));
+        [(triangles(&raw), 1.0), (triangles(&moved), s * s)]
+    }
+
+    /// Face 2 leans 1e-5 (seed 33 of the long property run): its corner (1e-5, 0, -0.25) lies
+    /// 1e-5 above face 4, beside the edge that faces 0 and 1 share on face 4, and both cross
+    /// face 2's plane 6.4e-6 deep there. The first start piece over face 2 is a sliver whose
+    /// plane missed their traces (see `adaptive_over_source`): at obstructed_tol 1e-3 G was
+    /// 32 x tol low at the origin, 0.03 x where the scene is scaled by 1e-6 and moved.
+    #[test]
+    fn the_traces_lie_in_the_plane_of_the_source() {
         let o = ClippingOptions { tol: 1e-3, ..Default::default() };
-        for (polys, scale) in [(triangles(&raw), 1.0), (triangles(&moved), s * s)] {
+        for (polys, scale) in seed_33_placements() {
             let free = polygon_pair_within(&polys[2], &polys[4], 0.0);
             let reference = clipping(&polys, 2, 4, &ClippingOptions { tol: 1e-9, ..o }, 1e-12);
             assert!((reference / scale - 1.9497639e-3).abs() < 1e-9, "{reference:e}");
@@ -1767,16 +1773,7 @@ mod tests {
     /// low at obstructed_tol 1e-2 and 3e-3, at both placements.
     #[test]
     fn a_steep_leaf_under_the_equal_weight_rule_is_not_trusted_by_chance() {
-        let raw = [
-            [[0.0, 0.0, 0.0], [0.0, 0.0, -0.25], [0.8448319428180837, 0.5, 0.0]],
-            [[0.0, 0.0, -0.25], [0.0, 0.0, 0.0], [1.0, 0.0, 0.0]],
-            [[0.0, -0.5, -0.25], [0.82421875, 0.0, -0.9375], [1e-05, 0.0, -0.25]],
-            [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 0.0]],
-            [[2.220446049250313e-16, -0.5, -0.9375], [0.0, 0.53125, -0.375], [0.0, 0.0, 0.0]],
-        ];
-        let s = 1e-6;
-        let moved = raw.map(|p| p.map(|v| v.map(|x| s * x + 7.0 * s)));
-        for (polys, scale) in [(triangles(&raw), 1.0), (triangles(&moved), s * s)] {
+        for (polys, scale) in seed_33_placements() {
             let free = polygon_pair_within(&polys[2], &polys[4], 0.0);
             let tight = ClippingOptions { tol: 1e-9, ..Default::default() };
             let reference = clipping(&polys, 2, 4, &tight, 1e-12);
