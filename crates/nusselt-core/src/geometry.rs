@@ -745,20 +745,28 @@ pub fn clip_pair(a: &Polygon, b: &Polygon) -> Option<(Vec<Vec3>, Vec<Vec3>)> {
     let mut cb = Vec::with_capacity(b.vertices.len() + 2);
     // heights accurate to themselves: nearly coplanar pairs are cut where they truly pierce
     let (plane_a, plane_b) = (AccuratePlane::of(&a.vertices), AccuratePlane::of(&b.vertices));
-    let ha: Vec<f64> = a.vertices.iter().map(|&x| plane_b.height(x)).collect();
-    let hb: Vec<f64> = b.vertices.iter().map(|&x| plane_a.height(x)).collect();
-    // A polygon cut by the other's plane ends on the line where the planes meet; a vertex of
-    // the other within its tolerance behind its plane then lies across that line by
-    // height / sin(angle) and, kept, overlaps the cut polygon in a sliver that the contour sum
-    // counts whole. Such a polygon is cut exactly too, both ending on the line (a face leaning
-    // 6.1e-5 over another, its vertex 1.1e-16 behind the other's plane: a sliver 9.1e-13 wide,
-    // F 9.8e-4 off; tests/test_properties.py, seed 33).
+    // A polygon cut by the other's plane ends on the line where the planes meet; a vertex of the
+    // other within its tolerance behind its plane then lies across that line by height /
+    // sin(angle) and, kept, overlaps the cut polygon in a sliver that the contour sum counts
+    // whole. Such a polygon is cut exactly too, both ending on the line (a face leaning 6.1e-5
+    // over another, its vertex 1.1e-16 behind the other's plane: a sliver 9.1e-13 wide, F 9.8e-4
+    // off; tests/test_properties.py, seed 33).
     let cut = |h: &[f64], tol: f64| h.iter().any(|&s| s > tol) && h.iter().any(|&s| s < -tol);
     let grazes = |h: &[f64], tol: f64| h.iter().any(|&s| s < 0.0 && s >= -tol);
-    let exact_a = if cut(&hb, tol_b) && grazes(&ha, tol_a) { 0.0 } else { tol_a };
-    let exact_b = if cut(&ha, tol_a) && grazes(&hb, tol_b) { 0.0 } else { tol_b };
-    clip_by_heights(&a.vertices, &ha, exact_a, &mut ca);
-    clip_by_heights(&b.vertices, &hb, exact_b, &mut cb);
+    let (va, vb) = (&a.vertices, &b.vertices);
+    let mut clip = |ha: &[f64], hb: &[f64]| {
+        let exact_a = if cut(hb, tol_b) && grazes(ha, tol_a) { 0.0 } else { tol_a };
+        let exact_b = if cut(ha, tol_a) && grazes(hb, tol_b) { 0.0 } else { tol_b };
+        clip_by_heights(va, ha, exact_a, &mut ca);
+        clip_by_heights(vb, hb, exact_b, &mut cb);
+    };
+    // (the heights on the stack, as with_snapped keeps them: a tolerance of 0 snaps nothing)
+    with_snapped(
+        va.len(),
+        |k| plane_b.height(va[k]),
+        0.0,
+        |ha| with_snapped(vb.len(), |k| plane_a.height(vb[k]), 0.0, |hb| clip(ha, hb)),
+    );
     if ca.len() < 3 || cb.len() < 3 {
         return None;
     }

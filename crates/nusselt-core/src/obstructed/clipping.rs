@@ -1646,19 +1646,23 @@ mod tests {
         }
     }
 
-    /// The seed-33 scene of the long property run (face 2 leans 1e-5) at the origin and scaled
-    /// by 1e-6 and moved by 7e-6, with the factor its G scales by.
+    /// The triangles `raw` at the origin and scaled by 1e-6 and moved by 7e-6 (the long property
+    /// run's placements), with the factor G scales by.
+    fn placements(raw: &[[[f64; 3]; 3]]) -> [(Vec<Polygon>, f64); 2] {
+        let s = 1e-6;
+        let moved: Vec<[[f64; 3]; 3]> = raw.iter().map(|p| p.map(|v| v.map(|x| s * x + 7.0 * s))).collect();
+        [(triangles(raw), 1.0), (triangles(&moved), s * s)]
+    }
+
+    /// The seed-33 scene of the long property run (face 2 leans 1e-5) in both [`placements`].
     fn seed_33_placements() -> [(Vec<Polygon>, f64); 2] {
-        let raw = [
+        placements(&[
             [[0.0, 0.0, 0.0], [0.0, 0.0, -0.25], [0.8448319428180837, 0.5, 0.0]],
             [[0.0, 0.0, -0.25], [0.0, 0.0, 0.0], [1.0, 0.0, 0.0]],
             [[0.0, -0.5, -0.25], [0.82421875, 0.0, -0.9375], [1e-05, 0.0, -0.25]],
             [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 0.0]],
             [[2.220446049250313e-16, -0.5, -0.9375], [0.0, 0.53125, -0.375], [0.0, 0.0, 0.0]],
-        ];
-        let s = 1e-6;
-        let moved = raw.map(|p| p.map(|v| v.map(|x| s * x + 7.0 * s)));
-        [(triangles(&raw), 1.0), (triangles(&moved), s * s)]
+        ])
     }
 
     /// Face 2 leans 1e-5 (seed 33 of the long property run): its corner (1e-5, 0, -0.25) lies
@@ -1720,17 +1724,14 @@ mod tests {
     /// was the unobstructed one. Moved, the two point F agreed exactly and it was 0.
     #[test]
     fn a_sliver_hidden_whole_is_not_lost_to_rounding() {
-        let raw = [
+        let o = ClippingOptions { tol: 1e-6, ..Default::default() };
+        for (polys, _) in placements(&[
             [[0.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, 1.0, 0.0]],
             [[0.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, -1.0, 0.0]],
             [[0.0, 0.0, 0.0], [0.0, 0.0, 1.0], [1.0, 0.0, 0.0]],
             [[0.0, 0.0, 0.0], [1.0, 0.0, 1.0], [0.0, 1.0, 0.0]],
             [[0.0, -1.0, -1.0], [0.0, 1.0, 0.0], [-5.960464477539063e-08, 0.0, 0.0]],
-        ];
-        let s = 1e-6;
-        let moved = raw.map(|p| p.map(|v| v.map(|x| s * x + 7.0 * s)));
-        let o = ClippingOptions { tol: 1e-6, ..Default::default() };
-        for polys in [triangles(&raw), triangles(&moved)] {
+        ]) {
             let free = polygon_pair_within(&polys[3], &polys[4], 0.0);
             // (the integral runs over face 3: faces 0 and 1 hover 6e-8 over face 4)
             assert!(clearance(&polys[3], &[&polys[0], &polys[1]]) > clearance(&polys[4], &[&polys[0], &polys[1]]));

@@ -283,7 +283,7 @@ fn push_shadow(s: &mut Vec<[f64; 2]>, shadows: &mut Pieces) {
 /// blocker's own vertices (far from p) and the sign of p's height e over each triangle's
 /// plane: for a counter-clockwise triangle, det(a_k - p, a_k+1 - p, x - p) = -e x (twice the
 /// area of (a_k, a_k+1, x)) for x on the triangle's plane, so its inside is where
-/// -sign(e) (a_k - p) x (a_k+1 - p) . (y - p) >= 0 (docs/algorithms.md §6.3).
+/// -sign(e) (a_k - p) x (a_k+1 - p) . (y - p) >= 0 (docs/algorithms.md §6.2).
 ///
 /// False, with nothing pushed, when the blocker is not convex or |e| is within 64 ulp of the
 /// coordinates for one of its triangles (p then lies on its plane within rounding, and which
@@ -302,24 +302,21 @@ fn cone_shadows(
         return false;
     }
     let p_max = p.abs().max_element();
-    // p's height over the plane of the fan triangle (v0, v_k, v_k+1)
-    let height = |k: usize| {
-        let (a, bb, c) = (v[0], v[k], v[k + 1]);
-        let nt = (bb - a).cross(c - a).normalize();
-        let e = nt.dot(p - a);
-        let coords = a.abs().max(bb.abs()).max(c.abs()).max_element() + p_max;
-        (e.abs() > 64.0 * f64::EPSILON * coords && e.is_finite()).then_some((nt, e))
-    };
-    if (1..v.len() - 1).any(|k| height(k).is_none()) {
-        return false;
-    }
     let (lo, hi) = window;
+    let before = shadows.len();
     for k in 1..v.len() - 1 {
-        let Some((nt, e)) = height(k) else { return false };
+        let tri = [v[0], v[k], v[k + 1]];
+        // p's height e over the triangle's plane; within rounding, no side of it is known
+        let nt = (tri[1] - tri[0]).cross(tri[2] - tri[0]).normalize();
+        let e = nt.dot(p - tri[0]);
+        let coords = tri[0].abs().max(tri[1].abs()).max(tri[2].abs()).max_element() + p_max;
+        if !(e.abs() > 64.0 * f64::EPSILON * coords) {
+            shadows.truncate(before);
+            return false;
+        }
         let sign = -e.signum();
         s.clear();
         s.extend_from_slice(&[lo, [hi[0], lo[1]], hi, [lo[0], hi[1]]]);
-        let tri = [v[0], v[k], v[k + 1]];
         // (normal m, point q): keep sign m . (y - q) >= 0
         let edge = |i: usize| ((tri[i] - p).cross(tri[(i + 1) % 3] - p), p);
         for (m, q) in [(nt, tri[0]), edge(0), edge(1), edge(2)] {
@@ -543,6 +540,11 @@ impl Pieces {
     fn push(&mut self, q: &[[f64; 2]]) {
         self.pts.extend_from_slice(q);
         self.ends.push(self.pts.len());
+    }
+    /// Keeps the first `n` pieces.
+    fn truncate(&mut self, n: usize) {
+        self.ends.truncate(n);
+        self.pts.truncate(self.ends.last().copied().unwrap_or(0));
     }
     fn len(&self) -> usize {
         self.ends.len()

@@ -22,7 +22,10 @@
 //! change would round it again (eps / width relative: 1.9e-9 for a strip 1e-8 wide).
 
 use super::lambert::point_contour_terms;
-use crate::geometry::{accurate_normal, bounding_diameter, segment_distance, Vec3};
+use crate::geometry::{
+    accurate_normal, bounding_diameter, clip_to_halfspace, newell_normal, segment_distance, turn_about, turns_left,
+    Vec3,
+};
 use crate::quadrature::adaptive::{refine_locally, split_in_four, Step};
 use crate::quadrature::{gauss_legendre, triangle_rule};
 use std::cell::Cell;
@@ -95,15 +98,13 @@ pub fn if_cancelling(
 /// scales; tests/test_properties.py, seed 36). Cut along the outline, the overlap is a piece
 /// of its own with samples in it. None when any piece does not converge.
 fn over_pieces(src: &[Vec3], n: Vec3, tgt: &[Vec3]) -> Option<f64> {
-    let onto = |x: Vec3| x - n * n.dot(x - src[0]);
-    let shadow: Vec<Vec3> = tgt.iter().map(|x| onto(*x)).collect();
-    let twice = crate::geometry::newell_normal(&shadow).dot(n);
+    // the target's outline on the source's plane, counter-clockwise about `up`
+    let shadow: Vec<Vec3> = tgt.iter().map(|x| *x - n * n.dot(*x - src[0])).collect();
+    let twice = newell_normal(&shadow).dot(n);
+    let up = n * twice.signum();
     let size = bounding_diameter(src).max(bounding_diameter(tgt));
-    let turn = crate::geometry::turn_about(n * twice.signum());
-    let convex =
-        |p: &[Vec3], turn: &dyn Fn(Vec3, Vec3, Vec3) -> (f64, f64)| crate::geometry::turns_left(p, turn, -1e-12);
-    if !(twice.abs() > 1e-12 * size * size) || !convex(&shadow, &turn) || !convex(src, &crate::geometry::turn_about(n))
-    {
+    let convex = |p: &[Vec3], about: Vec3| turns_left(p, turn_about(about), -1e-12);
+    if !(twice.abs() > 1e-12 * size * size) || !convex(&shadow, up) || !convex(src, n) {
         return lambert_over_area(src, n, tgt, 1e-14);
     }
     // the pieces of src outside each edge's half-plane in turn, then the overlap
@@ -115,14 +116,13 @@ fn over_pieces(src: &[Vec3], n: Vec3, tgt: &[Vec3]) -> Option<f64> {
         if a == b {
             continue;
         }
-        // inward: to the left of a -> b about the shadow's own orientation
-        let inward = (n * twice.signum()).cross(b - a).normalize();
-        crate::geometry::clip_to_halfspace(&rest, a, -inward, 0.0, &mut out);
+        let inward = up.cross(b - a).normalize();
+        clip_to_halfspace(&rest, a, -inward, 0.0, &mut out);
         // (a cut through a vertex leaves a piece of rounding's area: nothing to integrate)
-        if out.len() >= 3 && crate::geometry::newell_normal(&out).dot(n) > 1e-15 * size * size {
+        if out.len() >= 3 && newell_normal(&out).dot(n) > 1e-15 * size * size {
             total += lambert_over_area(&out, n, tgt, 1e-14)?;
         }
-        crate::geometry::clip_to_halfspace(&rest, a, inward, 0.0, &mut inside);
+        clip_to_halfspace(&rest, a, inward, 0.0, &mut inside);
         std::mem::swap(&mut rest, &mut inside);
         if rest.len() < 3 {
             return Some(total);
