@@ -127,7 +127,8 @@ fn hidden_over(
     let free_point = |x: Vec3| point_polygon(x, src.normal(), rec.vertices());
     let integrand = Integrand { point: &point, free_point: &free_point, piece_free: &piece_free };
     let plane = (src.centroid(), src.normal());
-    adaptive_over_source(&start, &kinked, plane, &casting_blockers, &integrand, &casters, &test, goal, o)
+    let outline = src_part.vertices();
+    adaptive_over_source(&start, &kinked, plane, outline, &casting_blockers, &integrand, &casters, &test, goal, o)
 }
 
 /// How far the blockers keep from the plane of `p`, relative to p's size: the least height of
@@ -602,6 +603,7 @@ fn adaptive_over_source(
     start: &[[Vec3; 3]],
     kinked: &[bool],
     plane: (Vec3, Vec3),
+    outline: &[Vec3],
     blockers: &[&Polygon],
     integrand: &Integrand,
     casters: &[&Polygon],
@@ -696,6 +698,32 @@ fn adaptive_over_source(
     let near_cut =
         |t: &[Vec3; 3], active: &[usize]| active.iter().any(|&k| cuts[k].is_some_and(|(p, q)| near_segment(t, p, q)));
     let evals = std::cell::Cell::new(0usize);
+    // The ends of the blockers' traces inside the source (farther than 1e-9 of its size from
+    // its outline): there an edge of the blocker pierces the source's plane. A wall standing
+    // on a floor patch ends on the patch's edge, and such ends are left out: there the wall
+    // is large and the samples see its shadow at every scale.
+    let reach = outline.iter().map(|x| x.distance(plane.0)).fold(0.0, f64::max);
+    let interior = |x: Vec3| {
+        (0..outline.len()).all(|k| segment_distance(x, x, outline[k], outline[(k + 1) % outline.len()]) > 1e-9 * reach)
+            && start.iter().any(|t| inside_triangle(t, x, triangle_eps(t)))
+    };
+    let pierce: Vec<Vec<Vec3>> =
+        cuts.iter().map(|c| c.map_or(Vec::new(), |(p, q)| [p, q].into_iter().filter(|&x| interior(x)).collect())).collect();
+    // The largest hidden F just off a pierce point in t (1e-6 of the way to each corner and to
+    // the centroid), 0 for none: close to a pierce point the hidden F depends on the direction
+    // from it and not on the distance, so these are its limits there.
+    let pierce_limit = |t: &[Vec3; 3], active: &[usize], bl: &[&Polygon]| {
+        let eps = triangle_eps(t);
+        let c = centroid3(t);
+        let mut most = 0.0_f64;
+        for e in active.iter().flat_map(|&k| &pierce[k]).filter(|&&e| inside_triangle(t, e, eps)) {
+            for x in t.iter().chain([&c]).filter(|x| x.distance(*e) > eps) {
+                evals.set(evals.get() + 1);
+                most = most.max(point(*e + (*x - *e) * 1e-6, bl, false).0);
+            }
+        }
+        most
+    };
     let pick = |active: &[usize]| active.iter().map(|&k| casters[k]).collect::<Vec<&Polygon>>();
     // the leaf's children values and error estimate
     let refine = |l: &mut Leaf| {
@@ -770,6 +798,17 @@ fn adaptive_over_source(
         }
         if l.kinked && lo > 0.0 && hi > COARSE_SPREAD * lo {
             l.err = l.err.max(KINKED_SHARE * kids.iter().sum::<f64>().abs());
+        }
+        // A leaf with a pierce point in it may hold a spike of the hidden F there, as wide as
+        // the blocker's part close to the plane, that no sample of it or its children reaches:
+        // it counts its area times the spike's height (the limit at the pierce point) until it
+        // is small enough. A sliver start piece 0.18 long, cornered at the point where a face
+        // 0.007 in front pierced the source, had its rule and its children's agreeing at
+        // 3.8e-10 for 2.9e-7, 8.9 x the goal at the default; the hidden F rose to 0.6 at that
+        // corner (`a_leaf_where_a_blocker_pierces_the_source_asks_the_limit_there`). The
+        // building of bench/scenes.py has no such point: its work is unchanged.
+        if !l.visible {
+            l.err = l.err.max(area3(&l.t) * pierce_limit(&l.t, &l.active, &bl));
         }
         l.kids = Some(kids);
         if rule.len() == 3 {
@@ -1785,5 +1824,30 @@ mod tests {
                 assert!(off.abs() <= 1.0, "scale {scale:e}, tol {tol:e}: G {g:e}, {off:.2} x tol");
             }
         }
+    }
+
+    /// The seed-37 replay of tests/test_properties.py: an edge of face 3 pierces face 1's plane
+    /// inside face 1. Near that point face 3 is close to every source point, and the hidden F
+    /// to face 4 runs up to 0.6 within about the size of face 3's part in front (0.007); a
+    /// sliver start piece cornered there (0.18 long) had every sample beyond that, its rule
+    /// and its children's agreeing at 3.8e-10 for 2.9e-7 (8.9 x the goal over face 1 at the
+    /// default). Integrated over face 1, the hidden G must agree with the same integral over
+    /// face 4, which nothing pierces (G is symmetric).
+    #[test]
+    fn a_leaf_where_a_blocker_pierces_the_source_asks_the_limit_there() {
+        let polys = triangles(&[
+            [[0.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.25, 1.0, 0.0]],
+            [[0.0, 0.0, 0.576171875], [0.9375, 0.0, 0.0], [-0.328125, 0.904296875, -1.0]],
+            [[0.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, 1.0, -0.5]],
+            [[0.0, 0.0, 1.0], [0.0, 0.13620460344004104, 0.0], [0.8125, 0.05790897567968201, 0.9453125]],
+            [[-0.66796875, 0.0, 0.9296875], [0.44902525456830156, 0.25390625, 0.0], [0.0, -0.21875, 0.443359375]],
+            [[0.0, 0.0, 0.0], [0.0, 0.0, -0.25], [0.0, 1.0, 0.0]],
+        ]);
+        let free = polygon_pair_within(&polys[1], &polys[4], 0.0);
+        let reference = over_first(&polys, 4, 1, &ClippingOptions { tol: 1e-8, ..Default::default() });
+        let tol = 1e-6;
+        let g = over_first(&polys, 1, 4, &ClippingOptions { tol, ..Default::default() });
+        let off = (g - reference) / (tol * free);
+        assert!(off.abs() <= 1.0, "G {g:e} for {reference:e}: {off:.2} x tol");
     }
 }
