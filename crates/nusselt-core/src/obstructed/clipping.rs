@@ -707,8 +707,10 @@ fn adaptive_over_source(
         (0..outline.len()).all(|k| segment_distance(x, x, outline[k], outline[(k + 1) % outline.len()]) > 1e-9 * reach)
             && start.iter().any(|t| inside_triangle(t, x, triangle_eps(t)))
     };
-    let pierce: Vec<Vec<Vec3>> =
-        cuts.iter().map(|c| c.map_or(Vec::new(), |(p, q)| [p, q].into_iter().filter(|&x| interior(x)).collect())).collect();
+    let pierce: Vec<Vec<Vec3>> = cuts
+        .iter()
+        .map(|c| c.map_or(Vec::new(), |(p, q)| [p, q].into_iter().filter(|&x| interior(x)).collect()))
+        .collect();
     // The largest hidden F just off a pierce point in t (1e-6 of the way to each corner and to
     // the centroid), 0 for none: close to a pierce point the hidden F depends on the direction
     // from it and not on the distance, so these are its limits there.
