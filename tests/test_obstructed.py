@@ -440,3 +440,37 @@ def test_blockers_hidden_behind_another_change_nothing(method, blocked_plates_ex
     alone = nusselt.view_factor(EMITTER, RECEIVER, obstacles=[BLOCKER], method=method, **tight)
     both = nusselt.view_factor(EMITTER, RECEIVER, obstacles=[BLOCKER, *behind], method=method, **tight)
     assert both == pytest.approx(alone, abs=1e-10)
+
+
+# A floor of the building of bench/scenes.py and a ceiling strip 5.5 above it, which it sees
+# over a stair's side wall (top 0.6 high along the floor's edge) and past a wall under the
+# ceiling, with four risers and a tread of the stair. The kink split cut the floor into strips
+# along the risers' events, which happen within 0.09 of its edge only, and its pieces ran out
+# before the side wall's events, which bound a 20-fold fall of the hidden F across the floor
+# (docs/algorithms.md §6.2): 4.0 and 11.4 x tol off at obstructed_tol 1e-3 and 3e-4.
+STAIR = [
+    np.array(p, dtype=float)
+    for p in (
+        [[9.4, 1.5, 0], [11.7, 1.5, 0], [11.7, 3.5666666666666664, 0], [9.4, 3.5666666666666664, 0]],
+        [[9.05, 0.3, 5.5], [9.8, 0.3, 5.5], [9.8, 0, 5.5], [9.05, 0, 5.5]],
+        [[9.86, 0.3, 0.9], [9.86, 1.5, 0.9], [9.86, 1.5, 0.6], [9.86, 0.3, 0.6]],
+        [[10.09, 0.3, 1.2], [10.09, 1.5, 1.2], [10.09, 1.5, 0.9], [10.09, 0.3, 0.9]],
+        [[10.32, 0.3, 1.5], [10.32, 1.5, 1.5], [10.32, 1.5, 1.2], [10.32, 0.3, 1.2]],
+        [[10.55, 0.3, 1.8], [10.55, 1.5, 1.8], [10.55, 1.5, 1.5], [10.55, 0.3, 1.5]],
+        [[9.8, 0.3, 5.5], [11.7, 0.3, 5.5], [11.7, 0.3, 4.1], [9.8, 0.3, 4.1]],
+        [[9.63, 1.5, 0.6], [11.7, 1.5, 0.6], [11.7, 1.5, 0.3], [9.63, 1.5, 0.3]],
+        [[9.86, 0.3, 0.9], [10.09, 0.3, 0.9], [10.09, 1.5, 0.9], [9.86, 1.5, 0.9]],
+    )
+]
+# tensor Gauss over the floor of the exact point F (visible region by clipping), its panels cut
+# at the traces of the planes through an axis-parallel edge and a vertex of the scene
+STAIR_F = 1.2962187e-3
+
+
+@pytest.mark.parametrize("tol", [1e-2, 3e-3, 1e-3, 3e-4])
+def test_floor_seen_past_a_stair_meets_a_loose_tol(tol):
+    floor, ceiling, *obs = STAIR
+    free = nusselt.view_factor(floor, ceiling)
+    assert STAIR_F < 0.9 * free  # partly hidden
+    F = nusselt.view_factor(floor, ceiling, obstacles=obs, obstructed_tol=tol)
+    assert abs(F - STAIR_F) <= tol * free, (F - STAIR_F) / (tol * free)
