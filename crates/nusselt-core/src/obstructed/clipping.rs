@@ -1023,6 +1023,16 @@ mod tests {
         (free - hidden).clamp(0.0, free)
     }
 
+    /// Asserts that `clipping` gives the G of pair (i, j) within tol x `free` of `reference`
+    /// at each of `tols`.
+    fn assert_meets(polys: &[Polygon], (i, j): (usize, usize), reference: f64, free: f64, tols: &[f64]) {
+        for &tol in tols {
+            let g = clipping(polys, i, j, &ClippingOptions { tol, ..Default::default() }, 1e-12);
+            let off = (g - reference) / (tol * free);
+            assert!(off.abs() <= 1.0, "tol {tol:e}: G {g:e}, {off:.2} x tol");
+        }
+    }
+
     /// A uniformly random point of triangle t.
     fn in_triangle(rng: &mut crate::visibility::bvh::tests::Rng, t: &Polygon) -> Vec3 {
         let w = t.vertices();
@@ -1908,11 +1918,7 @@ mod tests {
         let free = polygon_pair_within(&polys[0], &polys[1], 1e-13);
         let reference = 1.2962187e-3 * polys[0].area();
         assert!(reference < 0.9 * free);
-        for tol in [1e-2, 3e-3, 1e-3, 3e-4] {
-            let g = clipping(&polys, 0, 1, &ClippingOptions { tol, ..Default::default() }, 1e-12);
-            let off = (g - reference) / (tol * free);
-            assert!(off.abs() <= 1.0, "tol {tol:e}: G {g:e}, {off:.2} x tol");
-        }
+        assert_meets(&polys, (0, 1), reference, free, &[1e-2, 3e-3, 1e-3, 3e-4]);
     }
 
     /// The seed-38 replay of tests/test_properties.py: only a triangle 6e-5 across of face 0
@@ -1931,10 +1937,6 @@ mod tests {
         ]);
         let free = polygon_pair_within(&polys[0], &polys[2], 1e-13);
         let reference = 1.0960495670e-9 * polys[0].area();
-        for tol in [1e-3, 1e-6] {
-            let g = clipping(&polys, 0, 2, &ClippingOptions { tol, ..Default::default() }, 1e-12);
-            let off = (g - reference) / (tol * free);
-            assert!(off.abs() <= 1.0, "tol {tol:e}: G {g:e}, {off:.2} x tol");
-        }
+        assert_meets(&polys, (0, 2), reference, free, &[1e-3, 1e-6]);
     }
 }
