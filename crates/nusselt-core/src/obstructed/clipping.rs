@@ -1939,4 +1939,72 @@ mod tests {
         let reference = 1.0960495670e-9 * polys[0].area();
         assert_meets(&polys, (0, 2), reference, free, &[1e-3, 1e-6]);
     }
+
+    /// Seed 39 of the long property run (tests/test_properties.py): faces 0-2 each have an edge
+    /// in y = 0, within 4e-8 of face 4's plane (face 4 leans 6e-8 out of it), and face 3 crosses
+    /// that plane, so an edge of a blocker and a vertex of face 3's part in front span a kink
+    /// plane 4e-8 rad off face 4's. Over face 4 that plane lies within the split's tolerance
+    /// (1e-9 of the pair's size) along a band 0.04 wide, and a start piece with vertices on
+    /// both sides of the band and two in it was cut into halves that overlapped (area 0.0532
+    /// -> 0.0560): the start pieces' unobstructed G summed to 6.0914e-4 for the face's
+    /// 6.0667e-4, and F[3, 4] over face 4 came out 3.3042e-5 at every tol for 6.506920e-5
+    /// (nested adaptive Gauss-Kronrod over face 3 of the exact point F, to 1e-11 of F:
+    /// 6.5069200e-5 / 6.5069254e-5 from two of its vertices). The second scene (face 2 moved,
+    /// faces 0-4 rounded) at 3 p + 21, where the same kind of plane split a piece of 0.2933
+    /// into 0.3062: 3.1607e-5 for 3.2836996e-5 (64 x tol; at the origin, where the plane's
+    /// rounding differs, 3.2836752e-5). Such a piece now stays whole (`geometry::cuts_in_two`).
+    #[test]
+    fn a_kink_plane_nearly_in_the_sources_plane_cuts_no_overlapping_halves() {
+        let first = triangles(&[
+            [
+                [0.0, 0.0, 0.4643752850792635],
+                [0.0, 0.0, -0.30993796626476466],
+                [0.0, 0.4959378708484483, 0.4916379264466204],
+            ],
+            [
+                [0.0, 0.0, -0.9213925681584167],
+                [0.0, 0.0, -0.3036873413796738],
+                [0.0, 0.4083555728127941, -0.7256366774880623],
+            ],
+            [
+                [0.0, 0.0, 0.9999999999999999],
+                [0.43926912210183633, 0.0, -0.6206510770004806],
+                [-0.9474149672713192, 0.5263460985521964, 0.5],
+            ],
+            [
+                [0.0, -0.035490666954058225, 0.0],
+                [0.0, -0.029731871631357043, -0.2424826093484571],
+                [-0.5155422402224391, 0.3119631603455597, 0.9548792880155585],
+            ],
+            [
+                [0.15058686561303403, 0.0, 0.27732066287958834],
+                [0.6820315858517412, 5.960464477539063e-08, -0.8556063093113888],
+                [-0.24309367533859905, 0.0, -1.0],
+            ],
+        ]);
+        let second: Vec<[[f64; 3]; 3]> = [
+            [[0.0, 0.0, 0.4643752850792635], [0.0, 0.0, -1.0], [0.0, 1.0, 0.0]],
+            [[0.0, 0.0, -0.9375], [0.0, 0.0, 0.0], [0.0, 1.0, -1.0]],
+            [[0.0, 1.0, 0.0], [0.5, 0.0, 1.0], [-0.5, 0.5263460985521964, 0.5]],
+            [[0.0, -0.03125, 0.0], [0.0, -0.03125, -0.125], [-0.515625, 0.5, 0.75]],
+            [
+                [0.15058686561303403, 0.0, 0.28125],
+                [0.6820315858517412, 5.960464477539063e-08, -0.8556063093113888],
+                [-0.244140625, 0.0, -1.0],
+            ],
+        ]
+        .iter()
+        .map(|p| p.map(|v| v.map(|x| 3.0 * x + 21.0)))
+        .collect();
+        let tol = 1e-6;
+        for (polys, f34) in [(first, 6.506920e-5), (triangles(&second), 3.2836996e-5)] {
+            let free = polygon_pair_within(&polys[3], &polys[4], 0.0);
+            let reference = f34 * polys[3].area();
+            for (i, j) in [(4, 3), (3, 4)] {
+                let g = over_first(&polys, i, j, &ClippingOptions { tol, ..Default::default() });
+                let off = (g - reference) / (tol * free);
+                assert!(off.abs() <= 0.5, "over face {i}: G {g:e} for {reference:e}, {off:.2} x tol");
+            }
+        }
+    }
 }

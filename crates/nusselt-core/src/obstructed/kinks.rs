@@ -2,7 +2,7 @@
 //! integration starts from cut pieces instead of chasing a kink by refinement.
 
 use super::rules::area3;
-use crate::geometry::{crosses_plane, split_by_plane, triangles_of, within_triangles, Polygon, Vec3};
+use crate::geometry::{crosses_plane, cuts_in_two, split_by_plane, triangles_of, within_triangles, Polygon, Vec3};
 
 /// Most pieces the kink split may cut a source into (the planes after it are not cut). At 64
 /// the planes of a blocker whose shadow lay inside another's spent it before the events that
@@ -59,8 +59,9 @@ pub(super) fn split_at_kinks(
     let cuts: Vec<(Vec3, Vec3, Option<Vec3>)> = (kinks.planes.iter().map(|&(q, n)| (q, n, None)))
         .chain(kinks.chords.iter().map(|&(p0, p1)| (p0, (p1 - p0).cross(na).normalize_or_zero(), Some(p1))))
         .collect();
+    // (a piece that a cut would split into overlapping halves stays whole: see cuts_in_two)
     let splits = |piece: &[Vec3], &(q, n, end): &(Vec3, Vec3, Option<Vec3>)| {
-        crosses_plane(piece, q, n, kinks.tol) && end.is_none_or(|p1| meets_chord(piece, q, p1, n, kinks.tol))
+        cuts_in_two(piece, q, n, kinks.tol) && end.is_none_or(|p1| meets_chord(piece, q, p1, n, kinks.tol))
     };
     let mut done = 0;
     while done < cuts.len() && pieces.len() < MAX_KINK_PIECES {
