@@ -274,7 +274,8 @@ fn push_shadow(s: &mut Vec<[f64; 2]>, shadows: &mut Pieces) {
 /// blocker's plane (seen from p) and inside the cone from p over the blocker, i.e. on the
 /// inner side of each plane through p and an edge of the blocker. Each condition is a
 /// half-plane on the receiver's plane, so the shadow is the window cut by them (pushed into
-/// `shadows`; one per triangle of a fan, so that each plane is exact).
+/// `shadows`: one for a polygon whose vertices lie on its plane to well within p's height
+/// over it, else one per triangle of a fan, so that each plane is exact).
 ///
 /// The central projection that this replaces divides by p's depth above each point; near p's
 /// height that depth is rounding, so the blocker had to be cut a little below p, and where it
@@ -303,6 +304,37 @@ fn cone_shadows(
     }
     let p_max = p.abs().max_element();
     let (lo, hi) = window;
+    // A polygon whose vertices all lie on its plane within a quarter of p's height over it
+    // casts one shadow: the cone over all its edges (half the clips of a quad's fan, and one
+    // shadow instead of two for the boolean). Every wall standing on a floor patch comes
+    // here for each point of the patch: rows 95..100 of the 391-surface building at
+    // obstructed_tol 1e-2, 8.10e9 -> 7.58e9 instructions (callgrind, -6.4 %).
+    if v.len() > 3 {
+        let nb = b.normal();
+        let coords = v.iter().fold(0.0_f64, |m, x| m.max(x.abs().max_element())) + p_max;
+        let e = nb.dot(p - v[0]);
+        let bend = v.iter().fold(0.0_f64, |m, x| m.max(nb.dot(*x - v[0]).abs()));
+        if e.abs() > 64.0 * f64::EPSILON * coords + 4.0 * bend {
+            let sign = -e.signum();
+            s.clear();
+            s.extend_from_slice(&[lo, [hi[0], lo[1]], hi, [lo[0], hi[1]]]);
+            let m = v.len();
+            let planes = std::iter::once((nb, v[0])).chain((0..m).map(|i| ((v[i] - p).cross(v[(i + 1) % m] - p), p)));
+            for (mn, q) in planes {
+                let mn = sign * mn / mn.length();
+                let h = [mn.dot(frame.c - q) / frame.r, mn.dot(frame.tu), mn.dot(frame.tv)];
+                clip_where(s, |u| h[0] + h[1] * u[0] + h[2] * u[1], t);
+                std::mem::swap(s, t);
+                if s.len() < 3 {
+                    break;
+                }
+            }
+            if s.len() >= 3 {
+                push_shadow(s, shadows);
+            }
+            return true;
+        }
+    }
     let before = shadows.len();
     for k in 1..v.len() - 1 {
         let tri = [v[0], v[k], v[k + 1]];

@@ -800,3 +800,30 @@ fn a_blocker_hovering_over_p_hides_all_or_nothing() {
         }
     }
 }
+
+/// A convex quad blocker that crosses p's height casts one shadow (the cone over its four
+/// edges, beyond its plane) instead of one per fan triangle: the same visible F as the quad cut
+/// into its two triangles (an identity: the cut changes no ray), for p at heights from well
+/// above to just off the quad's plane, at several scales. The triangles take the fan path.
+#[test]
+fn a_quad_crossing_p_height_casts_the_shadow_of_its_two_triangles() {
+    let receiver = [[0.0, -1.0, 0.0], [0.0, 1.0, 0.0], [0.0, 1.0, 2.0], [0.0, -1.0, 2.0]];
+    // a fin standing out of the receiver's side past p's height (x = 1.5), a little askew
+    let wall = [[0.5, 0.1, -0.5], [2.0, 0.15, -0.5], [2.0, 0.15, 2.5], [0.5, 0.1, 2.5]];
+    let mut rng = Rng::new(11);
+    for (scale, shift) in [(1.0, 0.0), (1e-6, 7e-6), (1e3, -50.0)] {
+        let place = |v: &[[f64; 3]]| poly(&v.iter().map(|q| q.map(|c| c * scale + shift)).collect::<Vec<_>>());
+        let rec = place(&receiver);
+        let quad = place(&wall);
+        let halves = [place(&[wall[0], wall[1], wall[2]]), place(&[wall[0], wall[2], wall[3]])];
+        for _ in 0..200 {
+            let p = Vec3::new(1.5, -0.8 + 1.6 * rng.f(), 0.2 + 1.6 * rng.f()) * scale + Vec3::splat(shift);
+            let n = Vec3::new(-1.0, 0.3 * rng.f() - 0.15, 0.3 * rng.f() - 0.15).normalize();
+            let f_quad = point_visible_view_factor(p, n, &rec, &[&quad]);
+            let f_tris = point_visible_view_factor(p, n, &rec, &[&halves[0], &halves[1]]);
+            let free = point_visible_view_factor(p, n, &rec, &[]);
+            assert!(f_quad < free, "scale {scale}: the wall hides nothing ({f_quad} of {free})");
+            assert!((f_quad - f_tris).abs() <= 1e-12 * free, "scale {scale}: {f_quad} for {f_tris}");
+        }
+    }
+}
