@@ -93,3 +93,76 @@ pub(super) fn rule_points<'r>(rule: &'r [([f64; 3], f64)], t: &[Vec3; 3]) -> imp
     let (t, area) = (*t, area3(t));
     rule.iter().map(move |(b, w)| (t[0] * b[0] + t[1] * b[1] + t[2] * b[2], area * w))
 }
+
+/// Weights that give, from a function's values at the points of `rule` (barycentric, at least
+/// six in general position), the values at the triangle's three vertices of the quadratic
+/// that fits them best (least squares): where the function is smooth on the triangle these
+/// lie close to its values there, where it changes steeply next to an edge or a corner they
+/// do not.
+pub(super) fn vertex_extrapolation(rule: &[([f64; 3], f64)]) -> [Vec<f64>; 3] {
+    // quadratic basis in the barycentric coordinates (b1, b2)
+    let basis = |b: &[f64; 3]| [1.0, b[1], b[2], b[1] * b[1], b[1] * b[2], b[2] * b[2]];
+    let rows: Vec<[f64; 6]> = rule.iter().map(|(b, _)| basis(b)).collect();
+    // the normal equations' matrix A^T A, inverted by Gauss-Jordan with partial pivoting
+    let mut m = [[0.0; 12]; 6];
+    for (i, mi) in m.iter_mut().enumerate() {
+        for j in 0..6 {
+            mi[j] = rows.iter().map(|r| r[i] * r[j]).sum();
+        }
+        mi[6 + i] = 1.0;
+    }
+    for c in 0..6 {
+        let p = (c..6).max_by(|&a, &b| m[a][c].abs().total_cmp(&m[b][c].abs())).unwrap_or(c);
+        m.swap(c, p);
+        let d = m[c][c];
+        for x in m[c].iter_mut() {
+            *x /= d;
+        }
+        for r in 0..6 {
+            if r != c {
+                let f = m[r][c];
+                let pivot = m[c];
+                for (x, y) in m[r].iter_mut().zip(pivot) {
+                    *x -= f * y;
+                }
+            }
+        }
+    }
+    [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]].map(|v| {
+        // v^T (A^T A)^-1 A^T, one weight per rule point
+        let bv = basis(&v);
+        let coef: [f64; 6] = std::array::from_fn(|j| (0..6).map(|i| bv[i] * m[i][6 + j]).sum());
+        rows.iter().map(|r| r.iter().zip(coef).map(|(a, c)| a * c).sum()).collect()
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Radon's points determine a quadratic: its extrapolation to the vertices is exact for
+    /// any quadratic (checked on random ones) and off for a cubic.
+    #[test]
+    fn vertex_extrapolation_is_exact_for_quadratics() {
+        let rule = radon7();
+        let w = vertex_extrapolation(&rule);
+        let mut s = 12345u64;
+        let mut r = || {
+            s = s.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            (s >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        };
+        for _ in 0..20 {
+            let c: [f64; 6] = std::array::from_fn(|_| r());
+            let q = |b: &[f64; 3]| {
+                c[0] + c[1] * b[1] + c[2] * b[2] + c[3] * b[1] * b[1] + c[4] * b[1] * b[2] + c[5] * b[2] * b[2]
+            };
+            for (k, v) in [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]].iter().enumerate() {
+                let e: f64 = rule.iter().zip(&w[k]).map(|((b, _), wk)| wk * q(b)).sum();
+                assert!((e - q(v)).abs() <= 1e-12, "{e} for {}", q(v));
+            }
+        }
+        let cubic = |b: &[f64; 3]| b[1] * b[1] * b[1];
+        let e: f64 = rule.iter().zip(&w[1]).map(|((b, _), wk)| wk * cubic(b)).sum();
+        assert!((e - 1.0).abs() > 1e-3, "{e}");
+    }
+}
