@@ -303,7 +303,6 @@ fn cone_shadows(
         return false;
     }
     let p_max = p.abs().max_element();
-    let (lo, hi) = window;
     // A polygon whose vertices all lie on its plane within a quarter of p's height over it
     // casts one shadow: the cone over all its edges (half the clips of a quad's fan, and one
     // shadow instead of two for the boolean). Every wall standing on a floor patch comes
@@ -315,23 +314,9 @@ fn cone_shadows(
         let e = nb.dot(p - v[0]);
         let bend = v.iter().fold(0.0_f64, |m, x| m.max(nb.dot(*x - v[0]).abs()));
         if e.abs() > 64.0 * f64::EPSILON * coords + 4.0 * bend {
-            let sign = -e.signum();
-            s.clear();
-            s.extend_from_slice(&[lo, [hi[0], lo[1]], hi, [lo[0], hi[1]]]);
             let m = v.len();
-            let planes = std::iter::once((nb, v[0])).chain((0..m).map(|i| ((v[i] - p).cross(v[(i + 1) % m] - p), p)));
-            for (mn, q) in planes {
-                let mn = sign * mn / mn.length();
-                let h = [mn.dot(frame.c - q) / frame.r, mn.dot(frame.tu), mn.dot(frame.tv)];
-                clip_where(s, |u| h[0] + h[1] * u[0] + h[2] * u[1], t);
-                std::mem::swap(s, t);
-                if s.len() < 3 {
-                    break;
-                }
-            }
-            if s.len() >= 3 {
-                push_shadow(s, shadows);
-            }
+            let edges = (0..m).map(|i| ((v[i] - p).cross(v[(i + 1) % m] - p), p));
+            cone_shadow(-e.signum(), std::iter::once((nb, v[0])).chain(edges), frame, window, s, t, shadows);
             return true;
         }
     }
@@ -346,26 +331,36 @@ fn cone_shadows(
             shadows.truncate(before);
             return false;
         }
-        let sign = -e.signum();
-        s.clear();
-        s.extend_from_slice(&[lo, [hi[0], lo[1]], hi, [lo[0], hi[1]]]);
-        // (normal m, point q): keep sign m . (y - q) >= 0
         let edge = |i: usize| ((tri[i] - p).cross(tri[(i + 1) % 3] - p), p);
-        for (m, q) in [(nt, tri[0]), edge(0), edge(1), edge(2)] {
-            let m = sign * m / m.length();
-            // m . (y(u) - q) for y(u) = c + r (u0 tu + u1 tv), in units of r
-            let h = [m.dot(frame.c - q) / frame.r, m.dot(frame.tu), m.dot(frame.tv)];
-            clip_where(s, |u| h[0] + h[1] * u[0] + h[2] * u[1], t);
-            std::mem::swap(s, t);
-            if s.len() < 3 {
-                break;
-            }
-        }
-        if s.len() >= 3 {
-            push_shadow(s, shadows);
-        }
+        cone_shadow(-e.signum(), [(nt, tri[0]), edge(0), edge(1), edge(2)], frame, window, s, t, shadows);
     }
     true
+}
+
+/// The window cut by the half-spaces sign m . (y - q) >= 0 of `planes` (normal m, point q),
+/// on the receiver's plane, pushed into `shadows` unless nothing is left.
+fn cone_shadow(
+    sign: f64,
+    planes: impl IntoIterator<Item = (Vec3, Vec3)>,
+    frame: &Frame,
+    (lo, hi): ([f64; 2], [f64; 2]),
+    s: &mut Vec<[f64; 2]>,
+    t: &mut Vec<[f64; 2]>,
+    shadows: &mut Pieces,
+) {
+    s.clear();
+    s.extend_from_slice(&[lo, [hi[0], lo[1]], hi, [lo[0], hi[1]]]);
+    for (m, q) in planes {
+        let m = sign * m / m.length();
+        // m . (y(u) - q) for y(u) = c + r (u0 tu + u1 tv), in units of r
+        let h = [m.dot(frame.c - q) / frame.r, m.dot(frame.tu), m.dot(frame.tv)];
+        clip_where(s, |u| h[0] + h[1] * u[0] + h[2] * u[1], t);
+        std::mem::swap(s, t);
+        if s.len() < 3 {
+            return;
+        }
+    }
+    push_shadow(s, shadows);
 }
 
 /// Sutherland-Hodgman: the part of the polygon `v` where `d` (affine in the point) is >= 0,
