@@ -136,6 +136,12 @@ pub(super) fn vertex_extrapolation(rule: &[([f64; 3], f64)]) -> [Vec<f64>; 3] {
     })
 }
 
+/// [`vertex_extrapolation`] of Radon's rule ([`radon7`]), computed once.
+pub(super) fn radon7_corner_weights() -> &'static [Vec<f64>; 3] {
+    static WEIGHTS: std::sync::OnceLock<[Vec<f64>; 3]> = std::sync::OnceLock::new();
+    WEIGHTS.get_or_init(|| vertex_extrapolation(&radon7()))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
