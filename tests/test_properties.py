@@ -1494,27 +1494,8 @@ def test_replay_seed_41_obstacle_raises_f_next_to_a_pierce_point():
     # found by the long run with NUSSELT_HYPOTHESIS_SEED=41 (scene test, 15 min, on 95fa932):
     # the obstacle raised F[3, 4] by 1.36 x the slack at every tol; over face 3 a start piece
     # next to where face 1 pierces it held a rise along its edge that its one leaf missed
-    polys = [
-        [[0.0, 0.0, 0.0], [0.0, 0.0, 0.4048478064103149], [0.0, -0.6244781404695557, 0.0]],
-        [
-            [0.0, 0.0, 0.0],
-            [0.9671661181374849, 0.7029937561924036, 0.0],
-            [-0.879006089373096, 0.6441447926717423, 0.6434690988532505],
-        ],
-        [
-            [0.0, 0.0, -0.5493411974895367],
-            [0.7541738035109375, 0.0, 0.22759629226595002],
-            [-0.8450990617345946, 0.6157988114368824, 0.9809436146008736],
-        ],
-        [
-            [0.0, 0.9868640919141947, 0.3537380639925638],
-            [-0.7166616387010816, -0.6854663677212738, 1.0],
-            [0.0, -0.1875, 0.0],
-        ],
-        [[0.0, -0.90625, -1.0], [0.546875, 0.0, 0.8125], [0.4375, -0.34375, 0.1875]],
-    ]
-    obstacle = np.array([[0.0, 0.0, 0.0], [0.08203125, 0.0, 0.0], [-0.0625, 0.421875, 0.0]])
-    _assert_obstacle_only_takes_away([np.array(p) for p in polys], obstacle)
+    *polys, obstacle = [np.array(p) for p in _literal(DATA / "seed_41_pierce_point.txt")]
+    _assert_obstacle_only_takes_away(polys, obstacle)
 
 
 # Found by the long run with NUSSELT_HYPOTHESIS_SEED=40 (scene test, 6 min, on b72dcb6): the
@@ -1544,39 +1525,13 @@ def test_replay_seed_43_moved_sliver_in_front():
     # unobstructed F there (both scalings alike, 1.1 x the bound apart); face 0's part in front
     # is a sliver and is integrated now (clipping.rs: `far_smaller`; the Rust test
     # `a_sliver_in_front_is_integrated_though_a_blocker_comes_close_to_it` has the reference)
-    polys = [
-        [
-            [0.8456346206577288, -0.8295138225949428, 0.6832768975235815],
-            [-0.3148202056553594, 1.3953693604727947e-112, -2.2941324626284826e-39],
-            [0.1873571185848626, -1.6619379667181495e-291, 1.17055755316213e-28],
-        ],
-        [
-            [-0.4499097428880424, 0.1486890127129057, -6.32263406482935e-242],
-            [-0.7827625914803478, 2.45108379056854e-65, 1e-09],
-            [0.8696012486598836, -0.49293341120450085, 0.0],
-        ],
-        [
-            [0.37279654524776507, 0.10986204483052542, -0.9892937520712777],
-            [-0.30435189040233757, -1.192092896e-07, 1e-300],
-            [0.4917385535060015, 1.17055755316213e-28, -1.370082047212573e-12],
-        ],
-        [
-            [-2.546550824210825e-74, -5.115573139939452e-36, -0.16223067484088793],
-            [0.8914190633080477, -0.09767069397340467, 0.9623889024241223],
-            [0.0, -0.5302147679749568, 0.0],
-        ],
-        [
-            [0.0, 0.37687604461082835, -0.6000462241263825],
-            [-0.30435189040233757, -1.192092896e-07, 0.0],
-            [0.0, 0.0, 0.11025108287547725],
-        ],
-    ]
-    polys = [np.array(p) for p in polys]
+    polys = [np.array(p) for p in _literal(DATA / "seed_43_sliver_in_front.txt")]
     _assert_moved_within(polys)
     # the long run's second case (on 0f6e4c5, 16 min): face 4's third vertex elsewhere; moved,
     # the sliver's integral ran out short of its goal and face 2's replaced it (9.05 x the
     # bound); a side chosen as far the smaller is kept now
-    other = [*polys[:4], np.array([polys[4][0], polys[4][1], [-0.7131272104126429, 0.0, 0.11025108287547725]])]
+    other = [*polys[:4], polys[4].copy()]
+    other[4][2] = [-0.7131272104126429, 0.0, 0.11025108287547725]
     _assert_moved_within(other)
     # the pair against the unobstructed F: 0.577 of it is visible (the Rust test's reference,
     # an independent tensor rule over face 0, to 1e-5)
