@@ -509,11 +509,18 @@ fn self_intersection(v: &[Vec3], n: Vec3) -> Option<(usize, usize)> {
     None
 }
 
-/// Distance between the segments p→q and r→s (Ericson, Real-Time Collision Detection, 5.1.9).
+/// Distance between the segments p→q and r→s (Ericson, Real-Time Collision Detection, 5.1.9),
+/// either of which may be a point (p = q: the distance of the point p from r→s).
 pub fn segment_distance(p: Vec3, q: Vec3, r: Vec3, s: Vec3) -> f64 {
     let (d1, d2, w) = (q - p, s - r, p - r);
     let (a, e, f) = (d1.dot(d1), d2.dot(d2), d2.dot(w));
     let c = d1.dot(w);
+    // (a point: the general case divides 0 by 0 where its foot falls beyond the other's ends)
+    if !(a > 0.0) || !(e > 0.0) {
+        let sp = if a > 0.0 { (-c / a).clamp(0.0, 1.0) } else { 0.0 };
+        let tp = if e > 0.0 { (f / e).clamp(0.0, 1.0) } else { 0.0 };
+        return (p + d1 * sp).distance(r + d2 * tp);
+    }
     let b = d1.dot(d2);
     let denom = a * e - b * b;
     let mut sp = if denom > 1e-14 * a * e { ((b * f - c * e) / denom).clamp(0.0, 1.0) } else { 0.0 };
@@ -822,6 +829,22 @@ pub fn plane_tol(own: f64, reach: f64) -> f64 {
 #[cfg(test)]
 pub(crate) mod tests {
     use super::*;
+
+    /// A point's distance from a segment, the point given as a segment of length 0 on either
+    /// side, where its foot falls before, on and beyond the segment (Pythagoras), and two
+    /// skew segments (their common perpendicular, a unit apart).
+    #[test]
+    fn segment_distance_takes_points() {
+        let (r, s) = (Vec3::ZERO, Vec3::new(2.0, 0.0, 0.0));
+        for (x, want) in [(-3.0, 5.0), (1.0, 4.0), (5.0, 5.0)] {
+            let p = Vec3::new(x, 4.0, 0.0);
+            assert_eq!(segment_distance(p, p, r, s), want, "{p}");
+            assert_eq!(segment_distance(r, s, p, p), want, "{p}");
+        }
+        assert_eq!(segment_distance(r, r, s, s), 2.0);
+        let (p, q) = (Vec3::new(1.0, -1.0, 1.0), Vec3::new(1.0, 1.0, 1.0));
+        assert!((segment_distance(p, q, r, s) - 1.0).abs() < 1e-15);
+    }
 
     /// A plane 1e-9 rad off the quad's own, within `tol` of it at two adjacent corners and
     /// beyond it on both sides at the other two: the halves of [`split_by_plane`] both keep
