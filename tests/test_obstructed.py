@@ -474,3 +474,45 @@ def test_floor_seen_past_a_stair_meets_a_loose_tol(tol):
     assert STAIR_F < 0.9 * free  # partly hidden
     F = nusselt.view_factor(floor, ceiling, obstacles=obs, obstructed_tol=tol)
     assert abs(F - STAIR_F) <= tol * free, (F - STAIR_F) / (tol * free)
+
+
+def test_montecarlo_error_counts_the_mass_its_samples_miss():
+    # Where the kernel's mass gathers in a layer that no sample reaches, the spread of the RQMC
+    # replicates is 0 too; the samples' unobstructed total then misses the exact one, and the
+    # standard error must count that. Faces 0 and 2 of the seed-43 scene meet nearly back to
+    # back and see each other only within 1e-7 of their edge, face 1 hiding 42 % of that: every
+    # sample missed the layer, and the estimate was 0 +- 0, or the unobstructed F +- 5e-24
+    # with the blocked part sampled (0.577 of it is visible: test_properties.py)
+    import ast
+    from pathlib import Path
+
+    text = (Path(__file__).parent / "data" / "seed_43_sliver_in_front.txt").read_text()
+    polys = [
+        np.array(p) for p in ast.literal_eval("\n".join(ln for ln in text.splitlines() if not ln.startswith("//")))
+    ]
+    free = nusselt.view_factor(polys[0], polys[2])
+    exact = nusselt.view_factor(polys[0], polys[2], obstacles=[polys[1]])
+    assert exact / free == pytest.approx(0.57704, abs=1e-4)
+    for control_variate in (True, False):
+        f, std = nusselt.view_factor(
+            polys[0],
+            polys[2],
+            obstacles=[polys[1]],
+            method="montecarlo",
+            control_variate=control_variate,
+            return_std=True,
+        )
+        assert abs(f - exact) <= 4 * std, (control_variate, f, std)
+    f, std = nusselt.view_factor(polys[0], polys[2], method="montecarlo", control_variate=False, return_std=True)
+    assert abs(f - free) <= 4 * std, (f, std)
+    # a point 1e-6 below the middle of a plate: its F (nearly 1) gathers within about 1e-6 of
+    # the point's foot, which no sample reaches; a small square halfway up hides a little
+    p, n = [0.3, 0.3, 1.0 - 1e-6], [0.0, 0.0, 1.0]
+    square = rect(0.4, 0.45, 0.4, 0.45, z=1.0 - 0.5e-6)
+    exact = nusselt.point_view_factor(p, n, RECEIVER, obstacles=[square], method="clipping")
+    assert 0.99 < exact < nusselt.point_view_factor(p, n, RECEIVER)
+    for control_variate in (True, False):
+        f, std = nusselt.point_view_factor(
+            p, n, RECEIVER, obstacles=[square], method="montecarlo", control_variate=control_variate, return_std=True
+        )
+        assert abs(f - exact) <= 4 * std, (control_variate, f, std)

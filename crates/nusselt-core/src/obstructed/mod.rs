@@ -29,7 +29,7 @@ use crate::visibility::shadow::{hides_whole, hides_whole_together, point_visible
 use crate::visibility::{Occluders, Visibility};
 use rules::area_source_points;
 use sampled::{
-    cut_at_blocker_planes, kernel, mean_and_error, montecarlo, pair_order, quadrature, rqmc_estimates, stratum_samples,
+    cut_at_blocker_planes, kernel, montecarlo, pair_order, quadrature, rqmc_estimates, stratum_samples, Replicates,
     RQMC_REPS,
 };
 use subdivision::{adaptive_point, subdivide_at_blockers, uniform_point};
@@ -118,7 +118,9 @@ pub fn pair_with(ctx: &Context, i: usize, j: usize, m: &Estimator, known: Known)
     if cand.is_empty() {
         // Nothing can block: every method reduces to the unobstructed integral.
         return Ok(match m {
-            Estimator::MonteCarlo(o) if !o.control_variate => montecarlo(a, b, None, &[], o, i, j).estimate(None),
+            Estimator::MonteCarlo(o) if !o.control_variate => {
+                montecarlo(a, b, None, &[], o, i, j).estimate(exact()?, false)
+            }
             Estimator::Quadrature(o) if !o.control_variate => {
                 Estimate::exact(quadrature(a, b, None, &[], o.order).visible)
             }
@@ -141,8 +143,7 @@ pub fn pair_with(ctx: &Context, i: usize, j: usize, m: &Estimator, known: Known)
         }
         Estimator::MonteCarlo(o) => {
             let reps = montecarlo(a, b, Some(&visible), &blockers, &o, i, j);
-            let free = if reps.wants_free(o.control_variate) { Some(exact()?) } else { None };
-            reps.estimate(free)
+            reps.estimate(exact()?, o.control_variate)
         }
         Estimator::Subdivision(o) => {
             let pieces = subdivide_at_blockers(b, &blockers, o.divisions);
@@ -308,17 +309,15 @@ pub fn point(ctx: &Context, p: Vec3, n: Vec3, j: usize, m: &Estimator) -> Result
                 .map(|q| (PolygonSampler::new(q), q.area(), stratum_samples(per, q.area() / b.area())))
                 .collect();
             let sizes: Vec<(f64, usize)> = strata.iter().map(|s| (s.1, s.2)).collect();
-            let est = rqmc_estimates::<1>(o.seed, [j as u64, u64::MAX], &sizes, |s, u| {
+            let est = rqmc_estimates::<2>(o.seed, [j as u64, u64::MAX], &sizes, |s, u| {
                 let y = strata[s].0.sample([u[0], u[1]]);
-                let blocked = !visible(y);
                 let w = kernel(p, n, y, b.normal());
-                // control variate: the unblocked integral is exact, sample the blocked part
-                // every sample's visibility is tested (it pays by its ray)
-                ([if blocked == o.control_variate { w } else { 0.0 }], true)
+                // (the visible and the blocked part; every sample's visibility is tested, and
+                // pays by its ray)
+                (if visible(y) { [w, 0.0] } else { [0.0, w] }, true)
             });
-            let est: Vec<f64> =
-                est.iter().map(|&[mean]| if o.control_variate { lambert - mean } else { mean }).collect();
-            mean_and_error(&est)
+            // control variate: the unblocked integral is exact, the blocked part sampled
+            Replicates::new(est, false).estimate(lambert, o.control_variate)
         }
         Estimator::Subdivision(o) => {
             Estimate::exact(uniform_point(p, n, &subdivide_at_blockers(b, &blockers, o.divisions), &visible))
