@@ -1504,12 +1504,7 @@ def test_replay_seed_41_obstacle_raises_f_next_to_a_pierce_point():
 # an edge of face 3 lies in the blockers' plane 1.6e-3 rad off their common edge, and along the
 # kink plane through both the hidden F's slope grows without bound, next to a start piece's
 # edge where no sample reached (clipping.rs, EDGE_SHARE)
-SEED_40 = [
-    [[0.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, 1.0, 0.0]],
-    [[0.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, -1.0]],
-    [[0.5, 0.25, -0.25], [-1.0, -1.0, 0.0], [0.25, 0.0, 0.0]],
-    [[-1.0, 1.0, 0.0], [0.0, 0.001953125, -0.25], [0.0, 0.0, 1.0]],
-]
+SEED_40 = _literal(DATA / "seed_40_edge_in_the_blockers_plane.txt")
 
 
 def test_replay_seed_40_obstacle_raises_f():

@@ -2203,12 +2203,8 @@ mod tests {
     /// every tol. Each reference is the integral over the other face (an identity).
     #[test]
     fn a_piece_whose_corners_leave_its_samples_quadratic_is_refined() {
-        let a = triangles(&[
-            [[0.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, 1.0, 0.0]],
-            [[0.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, -1.0]],
-            [[0.5, 0.25, -0.25], [-1.0, -1.0, 0.0], [0.25, 0.0, 0.0]],
-            [[-1.0, 1.0, 0.0], [0.0, 0.001953125, -0.25], [0.0, 0.0, 1.0]],
-        ]);
+        let raw: [[[f64; 3]; 3]; 4] = include!("../../../../tests/data/seed_40_edge_in_the_blockers_plane.txt");
+        let a = triangles(&raw);
         let raw: [[[f64; 3]; 3]; 6] = include!("../../../../tests/data/seed_41_pierce_point.txt");
         let b = triangles(&raw);
         assert_side_meets_the_other(&a, (2, 3), &[1e-6], &[1e-5, 1e-6, 1e-8]);
