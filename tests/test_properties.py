@@ -1589,6 +1589,49 @@ def test_replay_seed_45_moved():
     _assert_moved_within([np.array(p) for p in [*SEED_45[:3], SEED_45_FACE_3]])
 
 
+# Found by the same long run on ac1ee3a (seed 45 again, scene test, 42 min): the obstacle raised
+# F[1, 4] by 1.37 x the slack. Not the obstacle: without it F[1, 4] is 2.2897854e-3 at the
+# default, 2.7e-6 of the unobstructed F (3.5247e-3) below the 2.2897949e-3 that both sides give
+# at obstructed_tol 1e-8 and 1e-10 (over face 1 within 1.6e-7 at the default), the goal
+# claimed met. Over face 4, its 226 start pieces each meet the goal alone, and each one's
+# start estimate is honest; the global refinement under the coarse start (COARSE_START_TOL,
+# which the default reaches) ends 2.7 x its claimed error off. Without the coarse start the
+# pair is 6e-9 off, but the building of bench/scenes.py then takes 27 % more work units at the
+# default (154.5 M for 122.0 M). Open
+SEED_45_THIRD = [
+    [[0.0, 0.0, 0.0], [0.0, 0.0, -1.0], [1.0, 0.0, 0.0]],
+    [
+        [0.0, 1.0, 0.05977671361710102],
+        [0.0, 0.6186375174692582, 0.683122959190301],
+        [-0.09993839983683261, 0.33501723155085394, -0.9733139018287171],
+    ],
+    [
+        [0.0, -0.20326763832084072, 0.10632651596078335],
+        [0.46875, 0.0, 0.0],
+        [0.06299767811831303, 0.4427793657128054, 0.8766341686788581],
+    ],
+    [
+        [0.638671875, 0.7993437120978211, 0.04248816441465508],
+        [-0.7582202342443249, 0.0, -0.5621064531278795],
+        [-0.15890910981662576, 0.060114020170549454, -0.14029518611141456],
+    ],
+    [
+        [0.8728051321147716, 0.6811541323941599, 0.0],
+        [-0.3147727875888958, -0.4733073001111733, 0.9941554061686784],
+        [0.0, 0.382202328696702, 0.0],
+    ],
+]
+
+
+@pytest.mark.xfail(strict=True, reason="open: the coarse start's global refinement ends 2.7 x tol off")
+def test_replay_seed_45_coarse_start_misses_at_the_default():
+    polys = [np.array(p) for p in SEED_45_THIRD]
+    free = nusselt.view_factor(polys[1], polys[4])
+    F = nusselt.form_factors(nusselt.Scene.from_polygons(polys)).matrix.toarray()
+    tight = nusselt.form_factors(nusselt.Scene.from_polygons(polys), obstructed_tol=1e-10).matrix.toarray()
+    assert abs(F[1, 4] - tight[1, 4]) <= DEFAULT_OBSTRUCTED_TOL * free, (F[1, 4] - tight[1, 4]) / free
+
+
 @pytest.mark.slow  # about 6 min
 def test_seed_44_reference():
     """F[4, 2] of SEED_44 by an integration that shares nothing with nusselt's obstructed
