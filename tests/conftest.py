@@ -1,6 +1,7 @@
 """Shared test helpers: polygons and scenes (rect, cube_faces, prism, uv_sphere), areas, and
 Howell's point-to-rectangle closed form. bench/ imports them too."""
 
+import ast
 import pathlib
 import sys
 import types
@@ -16,6 +17,13 @@ except ImportError:
     _pkg = types.ModuleType("nusselt")
     _pkg.__path__ = [str(pathlib.Path(__file__).resolve().parents[1] / "python" / "nusselt")]
     sys.modules["nusselt"] = _pkg
+
+
+def data_literal(name):
+    """The nested list of numbers in tests/data/`name`, written as a literal that Rust tests
+    include too (lines starting with // are comments)."""
+    text = (pathlib.Path(__file__).parent / "data" / name).read_text()
+    return ast.literal_eval("\n".join(line for line in text.splitlines() if not line.lstrip().startswith("//")))
 
 
 def rect(x0, x1, y0, y1, z=0.0, flip=False):

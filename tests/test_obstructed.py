@@ -2,7 +2,7 @@
 
 import numpy as np
 import pytest
-from conftest import cube_faces, parallel_rect, polygon_area, prism, rect, uv_sphere
+from conftest import cube_faces, data_literal, parallel_rect, polygon_area, prism, rect, uv_sphere
 from scipy.integrate import dblquad
 
 import nusselt
@@ -483,13 +483,7 @@ def test_montecarlo_error_counts_the_mass_its_samples_miss():
     # back and see each other only within 1e-7 of their edge, face 1 hiding 42 % of that: every
     # sample missed the layer, and the estimate was 0 +- 0, or the unobstructed F +- 5e-24
     # with the blocked part sampled (0.577 of it is visible: test_properties.py)
-    import ast
-    from pathlib import Path
-
-    text = (Path(__file__).parent / "data" / "seed_43_sliver_in_front.txt").read_text()
-    polys = [
-        np.array(p) for p in ast.literal_eval("\n".join(ln for ln in text.splitlines() if not ln.startswith("//")))
-    ]
+    polys = [np.array(p) for p in data_literal("seed_43_sliver_in_front.txt")]
     free = nusselt.view_factor(polys[0], polys[2])
     exact = nusselt.view_factor(polys[0], polys[2], obstacles=[polys[1]])
     assert exact / free == pytest.approx(0.57704, abs=1e-4)

@@ -13,14 +13,13 @@ it, as the tests pin theirs and ``--hypothesis-seed`` does not reach them):
 ``NUSSELT_HYPOTHESIS=long python -m pytest -q tests/test_properties.py``.
 """
 
-import ast
 import os
-from pathlib import Path
 
 import numpy as np
 import pytest
 
 hypothesis = pytest.importorskip("hypothesis")
+from conftest import data_literal  # noqa: E402
 from hypothesis import HealthCheck, given, settings  # noqa: E402
 from hypothesis import strategies as st  # noqa: E402
 from pair_reference import view_factor_mp  # noqa: E402
@@ -45,14 +44,6 @@ settings.load_profile(os.environ.get("NUSSELT_HYPOTHESIS", "default"))
 
 # the long run's seed (the default profile is derandomized and ignores it)
 SEED = int(os.environ.get("NUSSELT_HYPOTHESIS_SEED", "23"))
-DATA = Path(__file__).parent / "data"
-
-
-def _literal(path: Path):
-    """A nested list of numbers written as a literal that Rust tests include too (lines
-    starting with // are comments)."""
-    text = path.read_text()
-    return ast.literal_eval("\n".join(line for line in text.splitlines() if not line.lstrip().startswith("//")))
 
 
 coord = st.floats(-1.0, 1.0, allow_nan=False, allow_infinity=False)
@@ -235,7 +226,7 @@ def test_replay_hidden_obstacle_in_the_scene_path():
     # the obstacle's shadow lies inside face 1's: its kink planes spent the split's budget
     # before the events bounding face 1's shadow, whose samples then all missed a sliver of
     # it (F[4, 2] 9.7 x the bound above the free scene's)
-    *polys, obstacle = [np.array(p) for p in _literal(DATA / "hidden_obstacle.txt")]
+    *polys, obstacle = [np.array(p) for p in data_literal("hidden_obstacle.txt")]
     _assert_obstacle_only_takes_away(polys, obstacle)
 
 
@@ -1494,7 +1485,7 @@ def test_replay_seed_41_obstacle_raises_f_next_to_a_pierce_point():
     # found by the long run with NUSSELT_HYPOTHESIS_SEED=41 (scene test, 15 min, on 95fa932):
     # the obstacle raised F[3, 4] by 1.36 x the slack at every tol; over face 3 a start piece
     # next to where face 1 pierces it held a rise along its edge that its one leaf missed
-    *polys, obstacle = [np.array(p) for p in _literal(DATA / "seed_41_pierce_point.txt")]
+    *polys, obstacle = [np.array(p) for p in data_literal("seed_41_pierce_point.txt")]
     _assert_obstacle_only_takes_away(polys, obstacle)
 
 
@@ -1504,7 +1495,7 @@ def test_replay_seed_41_obstacle_raises_f_next_to_a_pierce_point():
 # an edge of face 3 lies in the blockers' plane 1.6e-3 rad off their common edge, and along the
 # kink plane through both the hidden F's slope grows without bound, next to a start piece's
 # edge where no sample reached (clipping.rs, EDGE_SHARE)
-SEED_40 = _literal(DATA / "seed_40_edge_in_the_blockers_plane.txt")
+SEED_40 = data_literal("seed_40_edge_in_the_blockers_plane.txt")
 
 
 def test_replay_seed_40_obstacle_raises_f():
@@ -1520,7 +1511,7 @@ def test_replay_seed_43_moved_sliver_in_front():
     # unobstructed F there (both scalings alike, 1.1 x the bound apart); face 0's part in front
     # is a sliver and is integrated now (clipping.rs: `far_smaller`; the Rust test
     # `a_sliver_in_front_is_integrated_though_a_blocker_comes_close_to_it` has the reference)
-    polys = [np.array(p) for p in _literal(DATA / "seed_43_sliver_in_front.txt")]
+    polys = [np.array(p) for p in data_literal("seed_43_sliver_in_front.txt")]
     _assert_moved_within(polys)
     # the long run's second case (on 0f6e4c5, 16 min): face 4's third vertex elsewhere; moved,
     # the sliver's integral ran out short of its goal and face 2's replaced it (9.05 x the
@@ -1542,7 +1533,7 @@ def test_replay_seed_43_moved_sliver_in_front():
 # sliver like its parent, they missed the point F's rise towards that corner, every target
 # claimed met. Slivers near the receiver are now cut across in graded pieces (kinks.rs:
 # `grade_slivers`)
-SEED_44 = _literal(DATA / "seed_44_needle_in_front.txt")
+SEED_44 = data_literal("seed_44_needle_in_front.txt")
 # F[4, 2] by the independent integration of `test_seed_44_reference`
 SEED_44_F42 = 3.530038657707e-5
 
@@ -1709,7 +1700,7 @@ def test_replay_seed_47_obstacle_raises_f():
     _assert_obstacle_only_takes_away([np.array(p) for p in SEED_47], obstacle)
 
 
-@pytest.mark.slow  # about 6 min
+@pytest.mark.slow  # about 5 min
 def test_seed_44_reference():
     """F[4, 2] of SEED_44 by an integration that shares nothing with nusselt's obstructed
     path: over the needle of face 2 in front of face 4 (z >= 0), per point the part of face 4
@@ -1796,3 +1787,20 @@ def test_seed_44_reference():
     # the rule on the unobstructed F, against the exact kernel
     assert abs(f42(False) - nusselt.view_factor(f4, f2)) <= 1e-14
     assert abs(f42(True) - SEED_44_F42) <= 1e-11
+
+    # the hidden F over the start piece of obstructed/clipping.rs's
+    # `a_visible_piece_compares_its_corners_with_its_samples` (the needle beyond the pierce
+    # segment's end p, as the kink split leaves it), from p, where it gathers
+    p = np.array([-0.18948271022069518, -0.26810338777587256, 0.0])
+    top = np.array([-0.18911304644732252, -0.2682762589384444, 2.927897029611217e-5])
+    jac = np.linalg.norm(np.cross(a - p, top - a))
+
+    def hidden(x):
+        return visible(x, False) - visible(x, True)
+
+    def outward(u):
+        g = lambda w: hidden(p + u * (a - p) + u * w * (top - a))  # noqa: E731
+        return quad(g, 0.0, 1.0, epsabs=0, epsrel=1e-9, limit=200)[0] * u * jac
+
+    piece = quad(outward, 0.0, 1.0, points=[1e-6, 1e-5, 1e-4, 1e-3, 1e-2, 0.1], epsabs=0, epsrel=1e-9, limit=400)[0]
+    assert abs(piece / area4 - 1.50565e-8) <= 1e-13, piece / area4

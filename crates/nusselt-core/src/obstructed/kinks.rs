@@ -116,10 +116,8 @@ pub(super) fn grade_slivers(
     kinked: Vec<bool>,
     receiver: &Polygon,
 ) -> (Vec<[Vec3; 3]>, Vec<bool>) {
-    let rec = triangles_of(receiver);
-    let rv = receiver.vertices();
+    let (rec, rv, n) = (triangles_of(receiver), receiver.vertices(), receiver.normal());
     let distance = |x: Vec3| {
-        let n = receiver.normal();
         let h = n.dot(x - rv[0]);
         if within_triangles(&rec, n, x - n * h, 0.0) {
             h.abs()
@@ -135,15 +133,18 @@ pub(super) fn grade_slivers(
         let long = t[(e + 1) % 3] - t[e];
         let len = long.length();
         let least = 2.0 * area3(&t) / len;
-        let d = t.map(distance);
-        let near = (0..3).min_by(|&i, &j| d[i].total_cmp(&d[j])).unwrap();
-        let (v, step) = (t[near], d[near].max(least));
-        let far = d.iter().fold(0.0_f64, |m, &x| m.max(x));
-        if !(len > SLIVER_ASPECT * least && step < GRADED_REACH * len && far > GRADED_REACH * len) {
+        // (the receiver's distance only for slivers: this runs on every start piece)
+        let graded = (len > SLIVER_ASPECT * least).then(|| t.map(distance)).and_then(|d| {
+            let near = (0..3).min_by(|&i, &j| d[i].total_cmp(&d[j])).unwrap();
+            let step = d[near].max(least);
+            let far = d.iter().fold(0.0_f64, |m, &x| m.max(x));
+            (step < GRADED_REACH * len && far > GRADED_REACH * len).then_some((t[near], step))
+        });
+        let Some((v, step)) = graded else {
             pieces.push(t);
             flags.push(k);
             continue;
-        }
+        };
         let u = long / len;
         let (lo, hi) = t.iter().fold((0.0_f64, 0.0_f64), |(lo, hi), x| (lo.min(u.dot(*x - v)), hi.max(u.dot(*x - v))));
         let tol = 1e-9 * len;

@@ -202,20 +202,16 @@ impl Replicates {
         Self { parts, peak_blocked }
     }
 
-    /// Whether [`Replicates::estimate`] needs the unobstructed G to use the control variate.
-    pub fn wants_free(&self, control_variate: bool) -> bool {
-        control_variate && !self.peak_blocked
-    }
-
     /// G with its standard error from the spread of the scramblings: the unobstructed G
-    /// `free` minus the blocked part where [`Replicates::wants_free`], the visible part
-    /// otherwise (the choice of [`Parts::with_free`]; each scrambling's estimate is kept as it
-    /// is, so the spread stays that of the estimator). The samples' total (visible and
+    /// `free` minus the blocked part with the control variate (unless the largest kernel
+    /// sample was blocked), the visible part otherwise (the choice of [`Parts::with_free`];
+    /// each scrambling's estimate is kept as it is, so the spread stays that of the
+    /// estimator). The samples' total (visible and
     /// blocked) estimates `free`: where it is off by more than [`DISCREPANT`] times its own
     /// standard error, the samples missed part of the kernel's mass, and the spread says
     /// nothing of it; the standard error then counts that discrepancy too.
     pub fn estimate(&self, free: f64, control_variate: bool) -> Estimate {
-        let cv = self.wants_free(control_variate);
+        let cv = control_variate && !self.peak_blocked;
         let per: Vec<f64> = self.parts.iter().map(|e| if cv { free - e[1] } else { e[0] }).collect();
         let mut est = mean_and_error(&per);
         let total = mean_and_error(&self.parts.iter().map(|e| e[0] + e[1]).collect::<Vec<_>>());
@@ -331,6 +327,9 @@ pub(super) fn mean_and_error(est: &[f64]) -> Estimate {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::registry::{configure, Value};
+    use crate::scene::pair_view_factor;
+    use crate::unobstructed::far_field::tests::square;
 
     /// The spread of the replicates is the standard error while their total (visible plus
     /// blocked) agrees with the exact unobstructed G within 4 of its own; a total that misses
@@ -351,9 +350,6 @@ mod tests {
         let zero = Replicates::new(vec![[0.0, 0.0]; RQMC_REPS], false).estimate(8.3e-8, false);
         assert_eq!((zero.value, zero.std_err), (0.0, 8.3e-8));
     }
-    use crate::registry::{configure, Value};
-    use crate::scene::pair_view_factor;
-    use crate::unobstructed::far_field::tests::square;
 
     /// F between plates of side s centred one above the other at distance 1, a square blocker
     /// of side s/2 half-way, by `method` with `given` options.
