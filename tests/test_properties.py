@@ -14,6 +14,7 @@ it, as the tests pin theirs and ``--hypothesis-seed`` does not reach them):
 """
 
 import os
+import warnings
 
 import numpy as np
 import pytest
@@ -92,13 +93,15 @@ def test_scene_invariants(polys, obstacle, s):
         hypothesis.assume("lie in one plane" not in str(e))
         raise
     free = nusselt.form_factors(free_scene)
-    F = free.matrix.toarray()
+    F, F_err = _with_error(free)
     assert F.min() >= 0.0 and F.max() <= 1.0
     # rows: each F within obstructed_tol x F_free where faces may block each other (seed 36:
-    # F[0, 2] 1e-8 high of 1.0, a row 1 + 1e-8), exact to rounding where none can
+    # F[0, 2] 1e-8 high of 1.0, a row 1 + 1e-8), exact to rounding where none can; or within
+    # the error estimate the result reports (std_err, with a ToleranceWarning) where an
+    # integral ran out of evaluations
     free_f = _free(free_scene.polygons)
     slack = 0.0 if free_scene._core.unobstructed() else DEFAULT_OBSTRUCTED_TOL * free_f.sum(axis=1)
-    assert (F.sum(axis=1) <= 1.0 + 1e-9 + slack).all()
+    assert (F.sum(axis=1) <= 1.0 + 1e-9 + slack + F_err.sum(axis=1)).all()
     G = free.areas[:, None] * F
     assert np.allclose(G, G.T, rtol=1e-12, atol=0.0)
     try:
@@ -106,10 +109,11 @@ def test_scene_invariants(polys, obstacle, s):
     except ValueError as e:
         hypothesis.assume("lie in one plane" not in str(e))
         raise
-    blocked = nusselt.form_factors(scene).matrix.toarray()
+    blocked, blocked_err = _with_error(nusselt.form_factors(scene))
     assert blocked.min() >= 0.0
-    # an obstacle only takes away, up to each result's error: obstructed_tol x F_free each
-    slack = 2 * DEFAULT_OBSTRUCTED_TOL * free_f + 1e-12
+    # an obstacle only takes away, up to each result's error: obstructed_tol x F_free each,
+    # or the error estimate it reports
+    slack = 2 * DEFAULT_OBSTRUCTED_TOL * free_f + F_err + blocked_err + 1e-12
     assert (blocked <= F + slack).all(), np.max((blocked - F) / slack)
     Gb = free.areas[:, None] * blocked
     assert np.allclose(Gb, Gb.T, rtol=1e-12, atol=0.0)
@@ -124,17 +128,24 @@ def test_scene_invariants(polys, obstacle, s):
     rounding = np.abs(_free(moved_polys) - free_f)
     for tol in (None, 1e-3):
         kw = {} if tol is None else {"obstructed_tol": tol}
-        base = F if tol is None else nusselt.form_factors(free_scene, **kw).matrix.toarray()
+        base, base_err = (F, F_err) if tol is None else _with_error(nusselt.form_factors(free_scene, **kw))
         moved = nusselt.Scene.from_polygons(moved_polys)
-        scaled = nusselt.form_factors(moved, **kw).matrix.toarray()
+        scaled, scaled_err = _with_error(nusselt.form_factors(moved, **kw))
         if free_scene._core.unobstructed():
             assert np.abs(scaled - base).max() <= 1e-9
         else:
-            bound = 2 * (tol or DEFAULT_OBSTRUCTED_TOL) * free_f + rounding + 1e-12
+            bound = 2 * (tol or DEFAULT_OBSTRUCTED_TOL) * free_f + base_err + scaled_err + rounding + 1e-12
             assert (np.abs(scaled - base) <= bound).all(), np.max(np.abs(scaled - base) / bound)
 
 
 DEFAULT_OBSTRUCTED_TOL = nusselt.methods.resolve("auto", {})[1]["obstructed_tol"]
+
+
+def _with_error(result):
+    """(F, its error estimate) of a result, dense: the estimate is 0 but where an integral ran
+    out of evaluations short of obstructed_tol (and a ToleranceWarning said so)."""
+    F = result.matrix.toarray()
+    return F, (np.zeros_like(F) if result.std_err is None else result.std_err.toarray())
 
 
 def _free(polys):
@@ -148,28 +159,31 @@ def _assert_moved_within(polys, tol=None, s=1e-6):
     (`tol` x F_free each; `tol` None: auto's default obstructed_tol) and what the move's
     rounding changes of the unobstructed F."""
     kw = {} if tol is None else {"obstructed_tol": tol}
-    base = nusselt.form_factors(nusselt.Scene.from_polygons(polys), **kw).matrix.toarray()
+    base, base_err = _with_error(nusselt.form_factors(nusselt.Scene.from_polygons(polys), **kw))
     moved_polys = [s * p + 7 * s for p in polys]
-    moved = nusselt.form_factors(nusselt.Scene.from_polygons(moved_polys), **kw).matrix.toarray()
+    moved, moved_err = _with_error(nusselt.form_factors(nusselt.Scene.from_polygons(moved_polys), **kw))
     free = _free(polys)
-    # (plus what the move's rounding changes of the unobstructed F, see test_scene_invariants)
-    bound = 2 * (tol or DEFAULT_OBSTRUCTED_TOL) * free + np.abs(_free(moved_polys) - free) + 1e-12
+    # (plus the error estimates the results report, and what the move's rounding changes of
+    # the unobstructed F, see test_scene_invariants)
+    bound = 2 * (tol or DEFAULT_OBSTRUCTED_TOL) * free + base_err + moved_err + np.abs(_free(moved_polys) - free)
+    bound += 1e-12
     assert (np.abs(moved - base) <= bound).all(), np.max(np.abs(moved - base) / bound)
 
 
-def _with_and_without(polys, obstacle):
+def _with_and_without(polys, obstacle, errors=False):
     """F of the scene of `polys` and of the same scene with `obstacle` added (obstruction only),
-    both at the defaults."""
-    F = nusselt.form_factors(nusselt.Scene.from_polygons(polys)).matrix.toarray()
+    both at the defaults (`errors`: the sum of their reported error estimates too)."""
+    F, F_err = _with_error(nusselt.form_factors(nusselt.Scene.from_polygons(polys)))
     scene = nusselt.Scene.from_polygons([*polys, obstacle], obstruction=[False] * len(polys) + [True])
-    return F, nusselt.form_factors(scene).matrix.toarray()
+    blocked, blocked_err = _with_error(nusselt.form_factors(scene))
+    return (F, blocked, F_err + blocked_err) if errors else (F, blocked)
 
 
 def _assert_obstacle_only_takes_away(polys, obstacle):
     """Adding `obstacle` raises no F by more than the two results' errors (obstructed_tol x
     F_free each, F_free every pair's unobstructed F)."""
-    F, blocked = _with_and_without(polys, obstacle)
-    slack = 2 * DEFAULT_OBSTRUCTED_TOL * _free(polys) + 1e-12
+    F, blocked, err = _with_and_without(polys, obstacle, errors=True)
+    slack = 2 * DEFAULT_OBSTRUCTED_TOL * _free(polys) + err + 1e-12
     assert (blocked <= F + slack).all(), np.max((blocked - F) / slack)
 
 
@@ -1625,7 +1639,10 @@ def test_replay_seed_45_coarse_start_misses_at_the_default():
 
 # Found by the long run with NUSSELT_HYPOTHESIS_SEED=46 (scene test, 55 min, on ac1ee3a), two
 # cases: the obstacle raised an F by 2.4 x the slack, and scaled and moved an F changed by
-# 6.8 x the bound. Not diagnosed (found at the end of the session). Open
+# 6.8 x the bound. Faces 1-3 share points and edges at the 1e-5 scale; the pairs' integrals
+# (both sides) run out of evaluations at every obstructed_tol <= 1e-6 and end 1e-5 to 5e-5 of
+# the unobstructed F short. Not fixed: since they say so (std_err, ToleranceWarning), each
+# number is within the error it reports
 SEED_46_OBSTACLE = (
     [
         [
@@ -1673,15 +1690,37 @@ SEED_46_MOVED = [
 ]
 
 
-@pytest.mark.xfail(strict=True, reason="open: not diagnosed")
 def test_replay_seed_46_obstacle_raises_f():
     polys, obstacle = SEED_46_OBSTACLE
-    _assert_obstacle_only_takes_away([np.array(p) for p in polys], np.array(obstacle))
+    with pytest.warns(nusselt.ToleranceWarning):
+        _assert_obstacle_only_takes_away([np.array(p) for p in polys], np.array(obstacle))
 
 
-@pytest.mark.xfail(strict=True, reason="open: not diagnosed")
 def test_replay_seed_46_moved():
-    _assert_moved_within([np.array(p) for p in SEED_46_MOVED])
+    with pytest.warns(nusselt.ToleranceWarning):
+        _assert_moved_within([np.array(p) for p in SEED_46_MOVED])
+
+
+def test_an_integral_out_of_evaluations_reports_its_error():
+    """Pairs whose integral ends short of obstructed_tol carry its error estimate in std_err
+    (reciprocal: A_i s_ij = A_j s_ji) and a ToleranceWarning names the worst; every other entry's
+    std_err is 0, and a single view_factor reports the same estimate."""
+    polys = [np.array(p) for p in SEED_46_MOVED]
+    with pytest.warns(nusselt.ToleranceWarning, match=r"\d+ entries of F did not reach obstructed_tol=1e-06"):
+        r = nusselt.form_factors(nusselt.Scene.from_polygons(polys))
+    S = r.std_err.toarray()
+    i, j = np.unravel_index(np.argmax(S), S.shape)
+    assert S[i, j] > DEFAULT_OBSTRUCTED_TOL * nusselt.view_factor(polys[i], polys[j])
+    assert np.allclose(r.areas[:, None] * S, (r.areas[:, None] * S).T, rtol=1e-12, atol=0.0)
+    assert 0 < np.count_nonzero(S) < S.size - len(S)
+    others = [polys[k] for k in range(len(polys)) if k not in (i, j)]
+    with pytest.warns(nusselt.ToleranceWarning, match="its error estimate"):
+        f, s = nusselt.view_factor(polys[i], polys[j], obstacles=others, return_std=True)
+    assert f == pytest.approx(r.matrix.toarray()[i, j], rel=1e-12) and s == pytest.approx(S[i, j], rel=1e-12)
+    # a pair that meets its target reports nothing
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert nusselt.view_factor(polys[0], polys[4], obstacles=polys[1:4], return_std=True)[1] == 0.0
 
 
 # Found by the long run with NUSSELT_HYPOTHESIS_SEED=47 (scene test, 34 min, on ac1ee3a): the
@@ -1698,6 +1737,34 @@ SEED_47 = [
 def test_replay_seed_47_obstacle_raises_f():
     obstacle = np.array([[0.0, 0.0, 0.0], [0.0, 0.0, 1.0], [-1.0, 0.0, 1.0]])
     _assert_obstacle_only_takes_away([np.array(p) for p in SEED_47], obstacle)
+
+
+# Found by the long run with NUSSELT_HYPOTHESIS_SEED=48 (scene test, 12 min, on a8a0817):
+# scaled by 0.1 and moved by 0.7, F[0, 3] changed by 20 x the bound, claimed met. Face 2 (a
+# blocker of the pair) shares a vertex with face 3; moved, that vertex lay within rounding
+# behind face 3's plane, and cutting the blocker to the pair's slab left a quad with an edge
+# 1.3e-13 long, whose cone plane from each source point lay where rounding put it (point F
+# 1.9e-3 off; the pair 4e-5 of its F). The same scene given that quad is fixed too.
+SEED_48 = [
+    [[0.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, 1.0, 0.0]],
+    [[0.0, 0.0, 0.0], [0.0, 0.0, -1.0], [0.0, 1.0, 0.0]],
+    [[0.0, 0.0, 0.0], [0.0, 0.4375, 0.80859375], [-0.125, 0.0, 0.25]],
+    [[0.0, 0.6875, 0.8414733953056248], [0.0, 0.0, 0.7578125], [-0.125, 0.0, 0.25]],
+]
+
+
+def test_replay_seed_48_moved():
+    _assert_moved_within([np.array(p) for p in SEED_48], s=0.1)
+
+
+def test_replay_seed_48_blocker_with_an_edge_of_rounding_length():
+    """Face 2 given as the quad the cut made of it (a vertex doubled 1.3e-13 away)."""
+    polys = [0.1 * np.array(p) + 0.7 for p in SEED_48]
+    quad = [polys[2][0], polys[2][1], [0.687500000000023, 0.7000000000000802, 0.7250000000001025], polys[2][2]]
+    plain = nusselt.form_factors(nusselt.Scene.from_polygons(polys)).matrix.toarray()
+    doubled = nusselt.form_factors(nusselt.Scene.from_polygons([*polys[:2], np.array(quad), polys[3]])).matrix.toarray()
+    free = nusselt.view_factor(polys[0], polys[3])
+    assert abs(doubled[0, 3] - plain[0, 3]) <= 1e-8 * free, (doubled[0, 3] - plain[0, 3]) / free
 
 
 @pytest.mark.slow  # about 5 min

@@ -26,7 +26,7 @@ try:
     from . import io
     from ._core import __version__
     from .api import form_factors, point_view_factor, view_factor
-    from .checks import ZeroRowWarning
+    from .checks import ToleranceWarning, ZeroRowWarning
     from .io import read_scene
     from .methods import METHODS, MethodName
     from .result import FormFactors
@@ -82,5 +82,6 @@ __all__ = [
     "NusseltWarning",
     "OrientationWarning",
     "RepairWarning",
+    "ToleranceWarning",
     "ZeroRowWarning",
 ]

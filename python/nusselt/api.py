@@ -10,7 +10,7 @@ from typing import Any, Literal, overload
 import numpy as np
 
 from . import _core, assembly, blocks, budget, ranges
-from .checks import warn_zero_rows
+from .checks import ToleranceWarning, warn_unmet_tolerance, warn_zero_rows
 from .methods import MethodName, resolve
 from .result import FormFactors
 from .scene import PLANARITY_TOL, Scene, geometry_error
@@ -75,7 +75,10 @@ def view_factor(
     Polygons are (n, 3) arrays, counter-clockwise seen from their front (emitting and
     receiving) side. ``obstacles`` is a list of polygons (opaque from both sides) or a Scene.
     ``method`` is one of :data:`nusselt.METHODS`; its options are keyword arguments.
-    With ``return_std=True`` returns ``(F, standard error)`` (0 for deterministic methods).
+    With ``return_std=True`` returns ``(F, standard error)``: 0 for deterministic methods,
+    except where an obstructed pair's adaptive integral ran out of evaluations before it met
+    ``obstructed_tol`` (``clipping``: ``tol``); then the integral's error estimate, and a
+    :class:`ToleranceWarning`.
     """
     a, b = _polygon(pi, "pi"), _polygon(pj, "pj")
     obs = _obstacles(obstacles)
@@ -84,7 +87,32 @@ def view_factor(
         f, s = _core.view_factor(a, b, obs, method, opts, PLANARITY_TOL)
     except _core.GeometryError as err:
         raise geometry_error(err, _labels(("pi", "pj"), obstacles)) from None
+    if s > 0.0 and not _sampled(method):
+        import warnings
+
+        warnings.warn(
+            f"method {method!r}: F = {f:.6g} did not reach {_tol_name(method)}={_tol(method, opts):g} within "
+            f"the evaluation limit of its integral; its error estimate is {s:.3g}",
+            ToleranceWarning,
+            stacklevel=2,
+        )
     return (float(f), float(s)) if return_std else float(f)
+
+
+def _sampled(method: str) -> bool:
+    """True for the methods whose standard error is statistical (they take a seed)."""
+    from .methods import METHODS
+
+    return "seed" in METHODS[method].options
+
+
+def _tol_name(method: str) -> str:
+    """The option that sets the relative target of a method's obstructed pairs."""
+    return "tol" if method == "clipping" else "obstructed_tol"
+
+
+def _tol(method: str, opts: dict[str, Any]) -> float:
+    return float(opts[_tol_name(method)])
 
 
 @overload
@@ -346,6 +374,8 @@ def _assemble(
             matrix, std, dropped = assembly.threshold_matrix(matrix, std, threshold)
     if threshold == 0.0:  # a threshold may empty a row legitimately
         warn_zero_rows(scene, matrix, recv)
+    if std is not None and kind == "pairs" and not _sampled(method):
+        warn_unmet_tolerance(scene, std, matrix, recv, method, _tol_name(method), _tol(method, opts))
     names = [f"{scene.surface_names[scene.surface[k]]}[{k}]" for k in recv]
     result = FormFactors(
         matrix.toarray() if dense else matrix,

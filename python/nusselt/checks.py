@@ -6,13 +6,19 @@ import warnings
 
 import numpy as np
 
-from ._sparse import Csr, issparse
+from ._sparse import Csr, as_scipy, issparse
 from .scene import NusseltWarning, Scene
 
 
 class ZeroRowWarning(NusseltWarning):
     """Rows of F are 0 although another face lies in front of them (a face turned the
     wrong way, most often)."""
+
+
+class ToleranceWarning(NusseltWarning):
+    """Pairs whose adaptive integral (``auto``, ``clipping``, and the obstructed pairs of
+    ``analytic`` and ``contour``) ran out of point evaluations before it met the tolerance
+    asked for: their error estimates are in the result's ``std_err``."""
 
 
 #: At most this many (zero row, receiver) pairs are tested; beyond it zero rows are sampled.
@@ -97,3 +103,28 @@ def warn_zero_rows(scene: Scene, matrix, faces: np.ndarray, *, stacklevel: int =
             "wrong way (or are hidden entirely behind other faces); see orient and two_sided in the guide"
         )
     warnings.warn(f"{scene.source + ': ' if scene.source else ''}{msg}", ZeroRowWarning, stacklevel=stacklevel)
+
+
+def warn_unmet_tolerance(
+    scene: Scene, std, matrix, faces: np.ndarray, method: str, name: str, tol: float, *, stacklevel: int = 4
+) -> None:
+    """Warn (:class:`ToleranceWarning`) when a deterministic pair method's result carries
+    error estimates (``std``: sparse, of F, rows and columns = ``faces``): the pairs whose
+    integral ended short of its target ``tol`` (option ``name``, relative to each pair's
+    unobstructed F)."""
+    s = as_scipy(std).tocoo()
+    keep = s.data > 0
+    if not keep.any():
+        return
+    r, c, e = s.row[keep], s.col[keep], s.data[keep]
+    k = int(np.argmax(e))
+    f = float(as_scipy(matrix).tocsr()[[int(r[k])], :].toarray().ravel()[int(c[k])])
+    where = f"{scene._face_label(int(faces[r[k]]))} -> {scene._face_label(int(faces[c[k]]))}"
+    msg = (
+        f"method {method!r}: {len(e)} entries of F did not reach {name}={tol:g} within "
+        f"the evaluation limit of their integral; their error estimates are in std_err (the "
+        f"largest {e[k]:.3g} for F = {f:.6g}, {where}). The estimate is the integral's own: "
+        "where blockers come within a tiny fraction of a face's size it may itself fall short"
+    )
+    prefix = f"{scene.source}: " if scene.source else ""
+    warnings.warn(prefix + msg, ToleranceWarning, stacklevel=stacklevel)

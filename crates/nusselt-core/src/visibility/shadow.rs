@@ -299,7 +299,16 @@ fn cone_shadows(
     shadows: &mut Pieces,
 ) -> bool {
     let v = b.vertices();
-    if v.len() > 3 && !turns_left(v, crate::geometry::turn_about(b.normal()), -1e-12) {
+    let m = v.len();
+    let v_max = v.iter().fold(0.0_f64, |m, x| m.max(x.abs().max_element()));
+    // An edge within SHORT_EDGE_ULPS of the coordinates' rounding (and SHORT_EDGE of the
+    // blocker's size) points where rounding says (a vertex doubled by a cut through it): its
+    // plane through p would cut the cone at a random angle. It casts no plane of its own
+    // (its neighbours' planes bound the cone to within its length), and a fan triangle with
+    // such an edge no shadow.
+    let short = (SHORT_EDGE_ULPS * f64::EPSILON * v_max).min(SHORT_EDGE * b.radius());
+    let long = |i: usize| v[i].distance_squared(v[(i + 1) % m]) > short * short;
+    if m > 3 && !turns_left(v, crate::geometry::turn_about(b.normal()), -1e-12) {
         return false;
     }
     let p_max = p.abs().max_element();
@@ -308,20 +317,22 @@ fn cone_shadows(
     // shadow instead of two for the boolean). Every wall standing on a floor patch comes
     // here for each point of the patch: rows 95..100 of the 391-surface building at
     // obstructed_tol 1e-2, 8.10e9 -> 7.58e9 instructions (callgrind, -6.4 %).
-    if v.len() > 3 {
+    if m > 3 {
         let nb = b.normal();
-        let coords = v.iter().fold(0.0_f64, |m, x| m.max(x.abs().max_element())) + p_max;
+        let coords = v_max + p_max;
         let e = nb.dot(p - v[0]);
         let bend = v.iter().fold(0.0_f64, |m, x| m.max(nb.dot(*x - v[0]).abs()));
         if e.abs() > 64.0 * f64::EPSILON * coords + 4.0 * bend {
-            let m = v.len();
-            let edges = (0..m).map(|i| ((v[i] - p).cross(v[(i + 1) % m] - p), p));
+            let edges = (0..m).filter(|&i| long(i)).map(|i| ((v[i] - p).cross(v[(i + 1) % m] - p), p));
             cone_shadow(-e.signum(), std::iter::once((nb, v[0])).chain(edges), frame, window, s, t, shadows);
             return true;
         }
     }
     let before = shadows.len();
-    for k in 1..v.len() - 1 {
+    for k in 1..m - 1 {
+        if !long(k) || (k == 1 && !long(0)) || (k == m - 2 && !long(m - 1)) {
+            continue;
+        }
         let tri = [v[0], v[k], v[k + 1]];
         // p's height e over the triangle's plane; within rounding, no side of it is known
         let nt = (tri[1] - tri[0]).cross(tri[2] - tri[0]).normalize();
@@ -336,6 +347,16 @@ fn cone_shadows(
     }
     true
 }
+
+/// Edges shorter than this many ulps of a blocker's largest coordinate cast no plane of their
+/// own in [`cone_shadows`]: their direction is within 1e-6 rad of rounding (a quad cut with an
+/// edge 1.3e-13 long at coordinates 0.7 put shadows 1.9e-3 of the point F off), while edges
+/// that only look short, as in a thin wedge 1e-8 wide, keep theirs.
+const SHORT_EDGE_ULPS: f64 = 1e6;
+
+/// ... and no edge of more than this fraction of its radius is left out (a tiny blocker far
+/// from the origin: leaving an edge's plane out widens the cone by a sliver as wide as it).
+const SHORT_EDGE: f64 = 1e-8;
 
 /// The window cut by the half-spaces sign m . (y - q) >= 0 of `planes` (normal m, point q),
 /// on the receiver's plane, pushed into `shadows` unless nothing is left.
