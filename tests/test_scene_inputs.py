@@ -182,6 +182,22 @@ def test_partly_overlapping_faces_are_refused_even_with_repair():
             nusselt.Scene.from_polygons([a, b, rect(0, 2, 0, 1, 1.0, flip=True)], repair=repair)
 
 
+def test_coplanar_overlap_does_not_depend_on_where_the_scene_lies():
+    # faces 1e-8 .. 6e-8 out of each other's plane (1e-9 of the scene's size is the band) are
+    # two planes wherever the scene lies; overlapping faces in one plane are refused anywhere.
+    # Moved by 7, the plane offsets measured from the origin differed by the tilt times 7 and
+    # fell into one group: refused (the long property run, seed 48)
+    near = [
+        np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]),
+        np.array([[0.0, -0.3125, 1e-08], [1.0, 0.5, 0.0], [-0.5, 0.0, 5.960464477539063e-08]]),
+    ]
+    a, b = rect(0, 1, 0, 1), rect(0.5, 1.5, 0, 1)
+    for s, shift in [(1.0, 0.0), (1.0, 7.0), (1e-6, 7e-6), (1e-3, 7e-3), (1024.0, -3.0)]:
+        assert len(nusselt.Scene.from_polygons([s * p + shift for p in near])) == 2
+        with pytest.raises(ValueError, match=r"face 0 and face 1 lie in one plane"):
+            nusselt.Scene.from_polygons([s * a + shift, s * b + shift])
+
+
 def test_repair_drops_duplicates_and_rows_sum_to_one():
     polys, _ = cube_faces(2)
     rolled = [np.roll(p, 1, axis=0) for p in polys[:5]]  # same faces, other first vertex
