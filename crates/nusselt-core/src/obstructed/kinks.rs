@@ -52,8 +52,29 @@ pub(super) fn split_at_kinks(
     casting: &[usize],
     mark_kinked: bool,
 ) -> (Vec<[Vec3; 3]>, Vec<bool>) {
+    let (pieces, kinked, _) = split_at_kinks_along(a, receiver, blockers, casting, mark_kinked);
+    (pieces, kinked)
+}
+
+/// [`split_at_kinks`], and the kink planes that hold an edge of `a` (no cut along them: they
+/// bound it). Along such an edge the hidden F can change within a layer thinner than the
+/// pieces there, which their rule does not resolve (see `along_kink` in clipping).
+pub(super) fn split_at_kinks_along(
+    a: &Polygon,
+    receiver: &Polygon,
+    blockers: &[&Polygon],
+    casting: &[usize],
+    mark_kinked: bool,
+) -> (Vec<[Vec3; 3]>, Vec<bool>, Vec<(Vec3, Vec3)>) {
     let kinks = kink_planes(a, receiver, blockers, casting);
     let v = a.vertices();
+    let on = |q: Vec3, n: Vec3, x: Vec3| n.dot(x - q).abs() <= kinks.tol;
+    let along: Vec<(Vec3, Vec3)> = kinks
+        .planes
+        .iter()
+        .filter(|&&(q, n)| (0..v.len()).any(|k| on(q, n, v[k]) && on(q, n, v[(k + 1) % v.len()])))
+        .copied()
+        .collect();
     let mut pieces: Vec<Vec<Vec3>> = a.triangulate().iter().map(|t| vec![v[t[0]], v[t[1]], v[t[2]]]).collect();
     // The planes, then the chords (each cutting only the pieces it meets), until the pieces
     // reach MAX_KINK_PIECES: a cut (q, n, the chord's other end) splits the pieces it crosses.
@@ -91,7 +112,7 @@ pub(super) fn split_at_kinks(
             crossed.push(k);
         }
     }
-    (triangles, crossed)
+    (triangles, crossed, along)
 }
 
 /// Least ratio of a start piece's longest edge to its least altitude for [`grade_slivers`].
