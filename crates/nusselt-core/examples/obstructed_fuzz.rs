@@ -1,6 +1,8 @@
 //! How often `clipping` misses its target on random obstructed pairs in general position
 //! (no Python):
 //!     cargo run --release -p nusselt-core --example obstructed_fuzz -- CASES [SEED]
+//! (with FUZZ_DUMP set, the polygons of each pair over its target go to stderr, one per line:
+//! the pair first, then its blockers)
 //! A tilted convex 3- to 6-gon source at z = 0 and receiver at z = 1 (facing down), and 1 to 4
 //! blockers: tilted n-gons between them, some crossing the source's plane or nearly touching
 //! the receiver's (as furniture stands on a floor). Reference: the same method at tol 1e-9 with
@@ -95,6 +97,15 @@ fn main() {
             let e = (v.value - reference).abs() / free;
             over[k] += (e > tol) as usize;
             silent[k] += (e > tol && e * free > v.std_err) as usize;
+            if e > tol && std::env::var_os("FUZZ_DUMP").is_some() {
+                // the pair (first two lines) and its blockers, one polygon per line, to replay it
+                eprintln!("# tol {tol:e}: {:.2} x target", e / tol);
+                for p in &polys {
+                    let c: Vec<String> =
+                        p.vertices().iter().flat_map(|x| x.to_array()).map(|x| format!("{x:e}")).collect();
+                    eprintln!("{}", c.join(" "));
+                }
+            }
             reported[k] += (v.std_err > 0.0) as usize;
             worst[k] = worst[k].max(e / tol);
         }
