@@ -1783,6 +1783,42 @@ def test_replay_seed_48_nearly_coplanar_faces_moved():
     _assert_moved_within([np.array(p) for p in SEED_48_NEARLY_COPLANAR])
 
 
+# Found by the long run with NUSSELT_HYPOTHESIS_SEED=49 (scene test, 50 min, on 638195b; both
+# fail on 591ae49 too), two cases. Not diagnosed (found at the end of the session). Open:
+# - with the obstacle F[3, 4] is 1.24238e-3 at the default, 2.2e-5 of the unobstructed F
+#   (0.01693) above the 1.242011e-3 of obstructed_tol 1e-10; without it 2.8e-6 low; both
+#   claimed met (no std_err);
+# - scaled by 1e-6 and moved, an F changes by 1.6 x the bound.
+SEED_49_OBSTACLE = (
+    [
+        [[0.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, 1.0, 0.0]],
+        [[0.0, 0.0, 0.0], [0.0, 0.0, 1.0], [-1.0, 0.5, 0.0]],
+        [[0.0, 0.0, 0.0], [0.0, 0.0, 0.875], [0.0, -1.0, 0.0]],
+        [[0.0, 0.75, 0.0], [0.0, 1.0, 0.0], [-1.0, 0.0, 0.0]],
+        [[0.0, -1.0, 0.0], [0.0, -1.0, 1.0], [1.0, 0.0, 0.0]],
+    ],
+    [[0.0, 0.0, 0.0], [0.0, 0.0, 0.25], [0.0, 1.0, 0.0]],
+)
+SEED_49_MOVED = [
+    [[0.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, 0.125, 0.0]],
+    [[0.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
+    [[0.0, 0.0, 0.0], [0.0, -1.0, 1.0], [-0.125, 0.25, 0.0]],
+    [[0.0, 0.0, 1.0], [1.0, 0.0, 0.0], [-1.0, 0.5, 0.0]],
+    [[0.0, 0.5, 0.0], [0.0, 1.0, 0.0], [-1.0, 0.0, 0.0]],
+]
+
+
+@pytest.mark.xfail(strict=True, reason="open: not diagnosed")
+def test_replay_seed_49_obstacle_raises_f():
+    polys, obstacle = SEED_49_OBSTACLE
+    _assert_obstacle_only_takes_away([np.array(p) for p in polys], np.array(obstacle))
+
+
+@pytest.mark.xfail(strict=True, reason="open: not diagnosed")
+def test_replay_seed_49_moved():
+    _assert_moved_within([np.array(p) for p in SEED_49_MOVED])
+
+
 @pytest.mark.slow  # about 5 min
 def test_seed_44_reference():
     """F[4, 2] of SEED_44 by an integration that shares nothing with nusselt's obstructed
