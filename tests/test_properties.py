@@ -1788,9 +1788,11 @@ def test_replay_seed_48_nearly_coplanar_faces_moved():
 # - with the obstacle F[3, 4] is 1.24238e-3 at the default, 2.2e-5 of the unobstructed F
 #   (0.01693) above the 1.242011e-3 of obstructed_tol 1e-10; without it 2.8e-6 low; both
 #   claimed met (no std_err). The integral runs over face 4 (clearance 0.71 against 0.05),
-#   which ends 2.2e-5 off claiming 9.3e-7; over face 3 it is 7e-9 off. The obstacle lies in
-#   face 0's plane inside face 0, and faces 0, 1, 2 and it share the vertex (0, 0, 0):
-#   coincident shadow edges are the first suspect;
+#   which ends 2.2e-5 off claiming 9.3e-7; over face 3 it is 7e-9 off. The pair with subsets
+#   of its blockers (clipping at 1e-6 against 1e-10, x tol): faces 0, 1, 2 and the obstacle
+#   +21.8; 0, 1, 2 -2.8; 1, 2 and the obstacle +5.5; 0, 1 and it 0.00; 0, 2 and it 0.02; the
+#   obstacle moved 1e-3 off face 0's plane +2.9. So it takes faces 1 and 2 together, which
+#   share the segment from (0, 0, 0) up the z axis (a hinge between two blockers);
 # - scaled by 1e-6 and moved, an F changes by 1.6 x the bound.
 SEED_49_OBSTACLE = (
     [
