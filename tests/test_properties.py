@@ -170,19 +170,19 @@ def _assert_moved_within(polys, tol=None, s=1e-6):
     assert (np.abs(moved - base) <= bound).all(), np.max(np.abs(moved - base) / bound)
 
 
-def _with_and_without(polys, obstacle, errors=False):
+def _with_and_without(polys, obstacle):
     """F of the scene of `polys` and of the same scene with `obstacle` added (obstruction only),
-    both at the defaults (`errors`: the sum of their reported error estimates too)."""
+    both at the defaults, and the sum of their reported error estimates."""
     F, F_err = _with_error(nusselt.form_factors(nusselt.Scene.from_polygons(polys)))
     scene = nusselt.Scene.from_polygons([*polys, obstacle], obstruction=[False] * len(polys) + [True])
     blocked, blocked_err = _with_error(nusselt.form_factors(scene))
-    return (F, blocked, F_err + blocked_err) if errors else (F, blocked)
+    return F, blocked, F_err + blocked_err
 
 
 def _assert_obstacle_only_takes_away(polys, obstacle):
     """Adding `obstacle` raises no F by more than the two results' errors (obstructed_tol x
     F_free each, F_free every pair's unobstructed F)."""
-    F, blocked, err = _with_and_without(polys, obstacle, errors=True)
+    F, blocked, err = _with_and_without(polys, obstacle)
     slack = 2 * DEFAULT_OBSTRUCTED_TOL * _free(polys) + err + 1e-12
     assert (blocked <= F + slack).all(), np.max((blocked - F) / slack)
 
@@ -228,7 +228,7 @@ def test_replay_obstacle_takes_away_in_the_scene_path():
         )
     ]
     obstacle = np.array([[0.0, 0.0, 1.0], [0.0, 1.0, -1.0], [0.0, 0.0, 0.0]])
-    F, blocked = _with_and_without(polys, obstacle)
+    F, blocked, _ = _with_and_without(polys, obstacle)
     free_f = nusselt.view_factor(polys[4], polys[2])
     # F[4, 2] 3.01431e-3 in both the free scene and the pair path (every other face a blocker),
     # 3.01450e-3 in the blocked scene at the default tol (64 x tol F_free above) until a start

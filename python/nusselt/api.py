@@ -90,8 +90,9 @@ def view_factor(
     if s > 0.0 and not _sampled(method):
         import warnings
 
+        name = _tol_name(opts)
         warnings.warn(
-            f"method {method!r}: F = {f:.6g} did not reach {_tol_name(method)}={_tol(method, opts):g} within "
+            f"method {method!r}: F = {f:.6g} did not reach {name}={opts[name]:g} within "
             f"the evaluation limit of its integral; its error estimate is {s:.3g}",
             ToleranceWarning,
             stacklevel=2,
@@ -106,13 +107,10 @@ def _sampled(method: str) -> bool:
     return "seed" in METHODS[method].options
 
 
-def _tol_name(method: str) -> str:
-    """The option that sets the relative target of a method's obstructed pairs."""
-    return "tol" if method == "clipping" else "obstructed_tol"
-
-
-def _tol(method: str, opts: dict[str, Any]) -> float:
-    return float(opts[_tol_name(method)])
+def _tol_name(opts: dict[str, Any]) -> str:
+    """The option that sets the relative target of a method's obstructed pairs (`clipping`'s
+    own `tol`; the exact methods' `tol` is that of their unobstructed kernel)."""
+    return "obstructed_tol" if "obstructed_tol" in opts else "tol"
 
 
 @overload
@@ -255,7 +253,7 @@ def form_factors(
             kind=kind,
             threshold=float(threshold),
             dtype=value_type,
-            with_std="seed" in m.options,
+            with_std=_sampled(method),
             dense=dense,
             scene=scene,
             recv=recv,
@@ -375,7 +373,8 @@ def _assemble(
     if threshold == 0.0:  # a threshold may empty a row legitimately
         warn_zero_rows(scene, matrix, recv)
     if std is not None and kind == "pairs" and not _sampled(method):
-        warn_unmet_tolerance(scene, std, matrix, recv, method, _tol_name(method), _tol(method, opts))
+        name = _tol_name(opts)
+        warn_unmet_tolerance(scene, std, matrix, recv, method, name, float(opts[name]))
     names = [f"{scene.surface_names[scene.surface[k]]}[{k}]" for k in recv]
     result = FormFactors(
         matrix.toarray() if dense else matrix,

@@ -118,7 +118,7 @@ def warn_unmet_tolerance(
         return
     r, c, e = s.row[keep], s.col[keep], s.data[keep]
     k = int(np.argmax(e))
-    f = float(as_scipy(matrix).tocsr()[[int(r[k])], :].toarray().ravel()[int(c[k])])
+    f = float(as_scipy(matrix).tocsr()[int(r[k]), int(c[k])])
     where = f"{scene._face_label(int(faces[r[k]]))} -> {scene._face_label(int(faces[c[k]]))}"
     msg = (
         f"method {method!r}: {len(e)} entries of F did not reach {name}={tol:g} within "

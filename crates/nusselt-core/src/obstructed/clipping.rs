@@ -896,8 +896,8 @@ fn adaptive_over_source(
     // spends 0.4 % more work units at obstructed_tol 1e-3, 0.01 % at the default.
     let (rc, rn) = (test.receiver.centroid(), test.receiver.normal());
     let near_receiver_plane = |t: &[Vec3; 3]| {
-        let size = t[0].distance(t[1]).max(t[1].distance(t[2])).max(t[2].distance(t[0]));
-        t.iter().map(|x| rn.dot(*x - rc).abs()).fold(f64::INFINITY, f64::min) <= 1e-9 * size
+        let eps = triangle_eps(t);
+        t.iter().any(|x| rn.dot(*x - rc).abs() <= eps)
     };
     // true where an edge of t lies on a kink plane that holds an edge of the source (see
     // `split_at_kinks_along`): the plane through a receiver edge and a blocker edge bounds
@@ -906,8 +906,8 @@ fn adaptive_over_source(
     // plane of the source's edge: leaves along that edge had their rule 18 % off and claimed
     // 20 x less (the pair 1.3 and 2.1 x tol off at 1e-7 and 1e-8)
     let along_kink = |t: &[Vec3; 3]| {
-        let size = t[0].distance(t[1]).max(t[1].distance(t[2])).max(t[2].distance(t[0]));
-        along.iter().any(|&(q, n)| t.iter().filter(|x| n.dot(**x - q).abs() <= 1e-9 * size).count() >= 2)
+        let eps = triangle_eps(t);
+        along.iter().any(|&(q, n)| t.iter().filter(|x| n.dot(**x - q).abs() <= eps).count() >= 2)
     };
     // The ends of the blockers' traces inside the source (farther than 1e-9 of its size from
     // its outline): there an edge of the blocker pierces the source's plane. A wall standing
@@ -962,14 +962,18 @@ fn adaptive_over_source(
         |t: &[Vec3; 3], bl: &[&Polygon]| just_inside(t).map(|y| limit(y, bl)).into_iter().fold(0.0, f64::max);
     // Radon's samples' quadratic extrapolated to the corners (see EDGE_SHARE)
     let extrapolation = (rule.len() == 7).then(radon7_corner_weights);
-    // how far the corner values depart from it, if by more than EDGE_SHARE of the largest
-    let departure = |e: &Edge| {
+    // how far the corner values depart from it (None under the 3-point rule)
+    let deviation = |e: &Edge| {
         let w = extrapolation?;
-        let most = e.samples.iter().chain(&e.corners).fold(0.0_f64, |m, v| m.max(v.abs()));
         let dev = (0..3)
             .map(|k| (e.corners[k] - w[k].iter().zip(&e.samples).map(|(a, b)| a * b).sum::<f64>()).abs())
             .fold(0.0, f64::max);
-        (dev > EDGE_SHARE * most).then_some(dev)
+        Some(dev)
+    };
+    // ... if by more than EDGE_SHARE of the largest value
+    let departure = |e: &Edge| {
+        let most = e.samples.iter().chain(&e.corners).fold(0.0_f64, |m, v| m.max(v.abs()));
+        deviation(e).filter(|&dev| dev > EDGE_SHARE * most)
     };
     // the leaf's children values and error estimate
     let refine = |l: &mut Leaf| {
@@ -1166,12 +1170,7 @@ fn adaptive_over_source(
         });
         // how far the corners depart from the samples' quadratic, however little (see
         // COARSE_DEPARTURE_SHARE)
-        let raw_dev = probe.map_or(0.0, |e| {
-            let w = extrapolation.unwrap();
-            (0..3)
-                .map(|k| (e.corners[k] - w[k].iter().zip(&e.samples).map(|(a, b)| a * b).sum::<f64>()).abs())
-                .fold(0.0, f64::max)
-        });
+        let raw_dev = probe.as_ref().and_then(deviation).unwrap_or(0.0);
         let edge = probe.filter(|e| departure(e).is_some());
         let coarse = coarse && edge.is_none();
         let mut l = Leaf {
