@@ -24,7 +24,7 @@ use crate::error::{Error, Result};
 use crate::geometry::{bounding_diameter, clip_pair, segment_distance, Polygon, Vec3};
 use crate::quadrature::adaptive::graded_panels;
 use crate::quadrature::gauss_legendre;
-use crate::unobstructed::analytic::area_routes::{if_cancelling, ILL_CONDITIONED};
+use crate::unobstructed::analytic::area_routes::{if_cancelling, EXACT_AREA_TOL, ILL_CONDITIONED};
 use std::f64::consts::PI;
 
 /// Default Gauss-Legendre nodes per panel. The panel error is relative to the edge pairs'
@@ -72,7 +72,7 @@ pub fn polygon_pair(a: &Polygon, b: &Polygon, nodes: usize) -> Result<f64> {
     }
     // A sum that cancels heavily (a sliver, a pair far apart) is recomputed by the
     // well-conditioned area route on the outlines as given, as in the analytic method.
-    if let Some(g) = if_cancelling(&ca, a.normal(), &cb, b.normal(), sum, mag, ILL_CONDITIONED) {
+    if let Some(g) = if_cancelling(&ca, a.normal(), &cb, b.normal(), sum, mag, ILL_CONDITIONED, EXACT_AREA_TOL) {
         return Ok(g);
     }
     Ok((sum / (4.0 * PI) * scale * scale).max(0.0))

@@ -44,7 +44,9 @@ pub const ILL_CONDITIONED: f64 = 2e3;
 /// nearly along one (`Contact::Other`), or the area route does not converge: the caller
 /// keeps its sum. Pairs far apart go to `area_area`, the rest (and far pairs it refuses)
 /// to [`lambert_over_area`] or, touching along a line and cancelling by more than
-/// `line_threshold`, `lambert_along_line`, over the smaller outline.
+/// `line_threshold`, `lambert_along_line`, over the smaller outline. `rel_tol` is the
+/// relative target of [`lambert_over_area`] (see [`area_route_tol`]).
+#[allow(clippy::too_many_arguments)]
 pub fn if_cancelling(
     pa: &[Vec3],
     na: Vec3,
@@ -53,6 +55,7 @@ pub fn if_cancelling(
     sum: f64,
     mag: f64,
     line_threshold: f64,
+    rel_tol: f64,
 ) -> Option<f64> {
     let (da, db) = (bounding_diameter(pa), bounding_diameter(pb));
     let mean = |p: &[Vec3]| p.iter().fold(Vec3::ZERO, |s, v| s + *v) / p.len() as f64;
@@ -74,7 +77,7 @@ pub fn if_cancelling(
     let n = if exact.dot(n) > 0.0 { exact.normalize() } else { n };
     // (tested only here: outlines 45 sizes apart cannot touch)
     match contact(src, n, tgt) {
-        Contact::Points => over_pieces(src, n, tgt).or_else(|| {
+        Contact::Points => over_pieces(src, n, tgt, rel_tol).or_else(|| {
             // Triangles did not converge: a point contact at the end of the source's cut edge
             // (it lies in the target's plane, beside the target, where Lambert's integrand is
             // steep). The line route grades towards that edge and the contact on it.
@@ -96,8 +99,9 @@ pub fn if_cancelling(
 /// rule then converges to the value without it (two triangles 1e-9 out of one plane, facing
 /// each other across 7e-10 over 4.3e-4 of one's area: F 3.5e-16 for 4.2563e-4 at five of six
 /// scales; tests/test_properties.py, seed 36). Cut along the outline, the overlap is a piece
-/// of its own with samples in it. None when any piece does not converge.
-fn over_pieces(src: &[Vec3], n: Vec3, tgt: &[Vec3]) -> Option<f64> {
+/// of its own with samples in it. None when any piece does not converge. Each piece is
+/// integrated to `rel_tol` of itself, the whole so to `rel_tol` of the total.
+fn over_pieces(src: &[Vec3], n: Vec3, tgt: &[Vec3], rel_tol: f64) -> Option<f64> {
     // the target's outline on the source's plane, counter-clockwise about `up`
     let shadow: Vec<Vec3> = tgt.iter().map(|x| *x - n * n.dot(*x - src[0])).collect();
     let twice = newell_normal(&shadow).dot(n);
@@ -105,7 +109,7 @@ fn over_pieces(src: &[Vec3], n: Vec3, tgt: &[Vec3]) -> Option<f64> {
     let size = bounding_diameter(src).max(bounding_diameter(tgt));
     let convex = |p: &[Vec3], about: Vec3| turns_left(p, turn_about(about), -1e-12);
     if !(twice.abs() > 1e-12 * size * size) || !convex(&shadow, up) || !convex(src, n) {
-        return lambert_over_area(src, n, tgt, 1e-14);
+        return lambert_over_area(src, n, tgt, rel_tol);
     }
     // the pieces of src outside each edge's half-plane in turn, then the overlap
     let (mut rest, mut out, mut inside) = (src.to_vec(), Vec::new(), Vec::new());
@@ -120,7 +124,7 @@ fn over_pieces(src: &[Vec3], n: Vec3, tgt: &[Vec3]) -> Option<f64> {
         clip_to_halfspace(&rest, a, -inward, 0.0, &mut out);
         // (a cut through a vertex leaves a piece of rounding's area: nothing to integrate)
         if out.len() >= 3 && newell_normal(&out).dot(n) > 1e-15 * size * size {
-            total += lambert_over_area(&out, n, tgt, 1e-14)?;
+            total += lambert_over_area(&out, n, tgt, rel_tol)?;
         }
         clip_to_halfspace(&rest, a, inward, 0.0, &mut inside);
         std::mem::swap(&mut rest, &mut inside);
@@ -128,7 +132,7 @@ fn over_pieces(src: &[Vec3], n: Vec3, tgt: &[Vec3]) -> Option<f64> {
             return Some(total);
         }
     }
-    Some(total + lambert_over_area(&rest, n, tgt, 1e-14)?)
+    Some(total + lambert_over_area(&rest, n, tgt, rel_tol)?)
 }
 
 /// Rounding of an analytic sum of a pair in line contact, per unit of its cancellation: the
@@ -146,6 +150,25 @@ const LINE_ILL_CONDITIONED: f64 = 3e4;
 /// its expected rounding stays below `tol` and below LINE_ILL_CONDITIONED's.
 pub fn analytic_line_threshold(tol: f64) -> f64 {
     LINE_ILL_CONDITIONED.max(tol / SUM_ERROR_PER_CANCELLATION)
+}
+
+/// Relative target of the area route ([`lambert_over_area`]) for the analytic method (0:
+/// to rounding).
+pub const EXACT_AREA_TOL: f64 = 1e-14;
+
+/// Share of a caller's relative accuracy `tol` that the area route of [`if_cancelling`] is
+/// asked for: its estimate (the change of a split under an order-8 rule) overstates the error
+/// of the refined value it returns, so a tenth leaves room.
+const AREA_ROUTE_SHARE: f64 = 0.1;
+
+/// The `rel_tol` of [`if_cancelling`] for a caller content with relative accuracy `tol` (0
+/// for the analytic method, [`EXACT_AREA_TOL`]). A source piece of an obstructed pair whose
+/// own unobstructed G is asked to a tenth of the pair's target cost 35 ms at 1e-14 wherever
+/// that target lay: a window 0.2 m tall crossing the plane of a partition's top 0.12 m wide,
+/// two pieces along that plane (G 1e-8 and 2e-9), 98 % of one pair's 72 ms in the building
+/// of bench/scenes.py at obstructed_tol 1e-3.
+pub fn area_route_tol(tol: f64) -> f64 {
+    (AREA_ROUTE_SHARE * tol).max(EXACT_AREA_TOL)
 }
 
 /// The edges of an outline, as pairs of vertices.

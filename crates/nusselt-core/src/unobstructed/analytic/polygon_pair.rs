@@ -6,7 +6,7 @@
 //! Valid when each polygon lies in the other's front half-space (clip first) and nothing is
 //! in between.
 
-use super::area_routes::{analytic_line_threshold, if_cancelling};
+use super::area_routes::{analytic_line_threshold, area_route_tol, if_cancelling};
 use crate::geometry::{clip_pair, Polygon, Vec3};
 use crate::quadrature::adaptive::graded_panels;
 use crate::quadrature::gauss_legendre;
@@ -328,7 +328,8 @@ pub fn polygon_pair(a: &Polygon, b: &Polygon) -> f64 {
 
 /// [`polygon_pair`] for a caller content with relative accuracy `tol` (auto's target): a pair
 /// in line contact keeps its sum while its expected rounding stays below `tol`
-/// ([`analytic_line_threshold`]) instead of paying milliseconds for the line route.
+/// ([`analytic_line_threshold`]) instead of paying milliseconds for the line route, and a
+/// cancelling sum's area route integrates to a tenth of `tol` ([`area_route_tol`]).
 pub fn polygon_pair_within(a: &Polygon, b: &Polygon, tol: f64) -> f64 {
     let line_threshold = analytic_line_threshold(tol);
     let Some((ca, cb)) = clip_pair(a, b) else {
@@ -353,7 +354,7 @@ pub fn polygon_pair_within(a: &Polygon, b: &Polygon, tol: f64) -> f64 {
     // A sum that cancels heavily (a sliver, a pair far apart) is recomputed by the
     // well-conditioned area route, on the outlines as given: a sliver's width is known to the
     // rounding of its coordinates, and the frame's shift would round it again.
-    if let Some(g) = if_cancelling(&ca, a.normal(), &cb, b.normal(), sum, mag, line_threshold) {
+    if let Some(g) = if_cancelling(&ca, a.normal(), &cb, b.normal(), sum, mag, line_threshold, area_route_tol(tol)) {
         return g;
     }
     let v = sum / (4.0 * PI);
