@@ -59,6 +59,8 @@ fn main() {
     let tols = [1e-2, 1e-3, 1e-4, 1e-5, 1e-6];
     let (mut over, mut silent, mut reported, mut worst, mut time) =
         ([0usize; 5], [0usize; 5], [0usize; 5], [0f64; 5], [0f64; 5]);
+    // error / target of every pair, per tol (the calibration: how much of the target is used)
+    let mut ratios: [Vec<f64>; 5] = Default::default();
     let mut done = 0;
     while done < cases {
         let (Some(a), Some(b)) = (
@@ -108,6 +110,7 @@ fn main() {
             }
             reported[k] += (v.std_err > 0.0) as usize;
             worst[k] = worst[k].max(e / tol);
+            ratios[k].push(e / tol);
         }
     }
     for (k, tol) in tols.iter().enumerate() {
@@ -118,6 +121,20 @@ fn main() {
             reported[k],
             worst[k],
             time[k] / cases as f64 * 1e6
+        );
+    }
+    println!("error / target: quantiles 5 % / 50 % / 95 %, share within [1/30, 1]");
+    for (k, tol) in tols.iter().enumerate() {
+        let r = &mut ratios[k];
+        r.sort_by(f64::total_cmp);
+        let q = |p: f64| r[((p * (r.len() - 1) as f64).round() as usize).min(r.len() - 1)];
+        let within = r.iter().filter(|&&x| (1.0 / 30.0..=1.0).contains(&x)).count();
+        println!(
+            "tol {tol:e}: {:9.2e} {:9.2e} {:9.2e}, {:5.1} %",
+            q(0.05),
+            q(0.5),
+            q(0.95),
+            100.0 * within as f64 / r.len() as f64
         );
     }
 }
