@@ -1844,6 +1844,71 @@ def test_replay_seed_48_obstacle_raises_f():
     _assert_obstacle_only_takes_away([np.array(p) for p in polys], np.array(obstacle))
 
 
+# Found by the long run with NUSSELT_HYPOTHESIS_SEED=50 (scene test, 10 min, on 2d2fead), two
+# cases; both fail on 34a1e4a. Open:
+# - the obstacle raises F[3, 4] by 1.67 x the slack: 3.3e-6 of the unobstructed F at every
+#   obstructed_tol from 1e-6 to 1e-12. The obstacle hides nothing of the pair (with faces 0
+#   and 1 alone the same F as with 0, 1 and 2; 60 000 random source points give the same
+#   point F with and without it). It is the F without it that is wrong: G = A F of the pair
+#   over face 3 is 8.1895198e-4, over face 4 8.1895504e-4 (both claiming 9e-13), and with
+#   the obstacle both sides give 8.1895504e-4. Face 3's final leaves each agree with a
+#   1e-14 integral of themselves, its start pieces tile its part exactly, and neither the
+#   blockers' cut to the slab, the shaft culling nor the pieces' own G change it: face 3's
+#   integral misses a thin feature of faces 0 and 1 (their edges in z = 0 cross) between
+#   its samples at every depth, which the obstacle's kink cuts happen to reach;
+# - scaled by 1e-6 and moved, F[2, 3] changes by 1.08 x the bound: 1.89e-6 of the
+#   unobstructed F at obstructed_tol 1e-8 and 1e-10 alike, so again a feature one of the
+#   two integrals misses at every depth.
+SEED_50_OBSTACLE = (
+    [
+        [
+            [0.5834344732009976, 0.0, 0.0],
+            [0.3333333333333333, 0.8134613990200181, 0.2676669448118274],
+            [0.14437714378005073, -0.3115530688414284, 0.0],
+        ],
+        [
+            [-0.05551362362587198, -0.11230303670122699, 0.0],
+            [0.0, -0.25120451086312146, -0.42556938510445386],
+            [0.5057808230093057, 0.24216463717099068, 0.0],
+        ],
+        [
+            [0.0, 0.0, 0.5062371311345761],
+            [0.0, 0.0, 0.0],
+            [0.0, -0.03687067840895408, 0.628772856072159],
+        ],
+        [
+            [0.5661550787254854, -0.5259756847622777, 0.9],
+            [-2.612168588997259e-16, 0.0, -0.12338351339437925],
+            [1e-14, 0.4693412878996772, -0.5736047901251212],
+        ],
+        [
+            [-0.2831793327881308, 0.30925921026087466, -0.6077014464345906],
+            [0.6490271984464662, 0.33673889207489016, -0.6895780414664165],
+            [0.0, 0.0, 0.0],
+        ],
+    ],
+    [[0.0, -0.6841299346898944, 0.0], [0.0, 0.0, 0.9999768754759102], [0.0, 0.0, 0.0]],
+)
+SEED_50_MOVED = [
+    [[0.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, 1.0, 0.0]],
+    [[1.0, 0.0, 0.0], [0.5, 1.0, 0.0], [0.25, -0.25, 0.0]],
+    [[0.75, -0.5, 0.875], [0.0, 0.0, -0.125], [0.0, 0.5, -0.5]],
+    [[0.0, 0.0, 0.0], [0.0, 0.375, -0.75], [0.75, 0.25, -0.5]],
+    [[0.0, 0.0, 0.125], [0.0, -0.25, -0.375], [0.5, 0.1875, 0.0]],
+]
+
+
+@pytest.mark.xfail(strict=True, reason="open: face 3's integral misses a thin feature")
+def test_replay_seed_50_obstacle_raises_f():
+    polys, obstacle = SEED_50_OBSTACLE
+    _assert_obstacle_only_takes_away([np.array(p) for p in polys], np.array(obstacle))
+
+
+@pytest.mark.xfail(strict=True, reason="open: one of the two integrals misses a feature")
+def test_replay_seed_50_moved():
+    _assert_moved_within([np.array(p) for p in SEED_50_MOVED])
+
+
 @pytest.mark.slow  # about 5 min
 def test_seed_44_reference():
     """F[4, 2] of SEED_44 by an integration that shares nothing with nusselt's obstructed
