@@ -1825,7 +1825,8 @@ def test_replay_seed_49_moved():
 
 
 # Found by the long run with NUSSELT_HYPOTHESIS_SEED=48 a third time (scene test, 44 min, on
-# 4ab0138): the obstacle raised an F by 1.79 x the slack. Not diagnosed. Open
+# 4ab0138): the obstacle raised an F by 1.79 x the slack. Passes since the gaps between two
+# blockers' shadows are cut along their edge-edge-edge events (see seed 50 below)
 SEED_48_OBSTACLE = (
     [
         [[0.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, 1.0, 0.0]],
@@ -1838,14 +1839,14 @@ SEED_48_OBSTACLE = (
 )
 
 
-@pytest.mark.xfail(strict=True, reason="open: not diagnosed")
 def test_replay_seed_48_obstacle_raises_f():
     polys, obstacle = SEED_48_OBSTACLE
     _assert_obstacle_only_takes_away([np.array(p) for p in polys], np.array(obstacle))
 
 
 # Found by the long run with NUSSELT_HYPOTHESIS_SEED=50 (scene test, 10 min, on 2d2fead), two
-# cases; both fail on 34a1e4a. Open:
+# cases; both failed until the gaps between two blockers' shadows were cut along their
+# edge-edge-edge events (`gap_chords` in crates/nusselt-core/src/obstructed/kinks.rs):
 # - the obstacle raises F[3, 4] by 1.67 x the slack: 3.3e-6 of the unobstructed F at every
 #   obstructed_tol from 1e-6 to 1e-12. The obstacle hides nothing of the pair (with faces 0
 #   and 1 alone the same F as with 0, 1 and 2; 60 000 random source points give the same
@@ -1858,11 +1859,10 @@ def test_replay_seed_48_obstacle_raises_f():
 #   start piece integrating the visible F, 3.0e-9 of G off: its 7 samples and its
 #   children's 28 are all in shadow, but within a tenth of its size of a corner (not at the
 #   corner) up to 1 % of the free F comes through a gap between the shadows of faces 0 and
-#   1. No kink cut bounds that gap (two blockers' shadows meet along edge-edge-edge events,
-#   which are cut only at pierce points); the obstacle's kink cuts happen to reach it;
+#   1. No kink cut bounded that gap (two blockers' shadows meet along edge-edge-edge events,
+#   which were cut only at pierce points); the obstacle's kink cuts happened to reach it;
 # - scaled by 1e-6 and moved, F[2, 3] changes by 1.08 x the bound: 1.89e-6 of the
-#   unobstructed F at obstructed_tol 1e-8 and 1e-10 alike, so again a feature one of the
-#   two integrals misses at every depth.
+#   unobstructed F at obstructed_tol 1e-8 and 1e-10 alike: the same kind of miss.
 SEED_50_OBSTACLE = (
     [
         [
@@ -1902,13 +1902,11 @@ SEED_50_MOVED = [
 ]
 
 
-@pytest.mark.xfail(strict=True, reason="open: a gap between two shadows that no kink cut bounds")
 def test_replay_seed_50_obstacle_raises_f():
     polys, obstacle = SEED_50_OBSTACLE
     _assert_obstacle_only_takes_away([np.array(p) for p in polys], np.array(obstacle))
 
 
-@pytest.mark.xfail(strict=True, reason="open: one of the two integrals misses a feature")
 def test_replay_seed_50_moved():
     _assert_moved_within([np.array(p) for p in SEED_50_MOVED])
 

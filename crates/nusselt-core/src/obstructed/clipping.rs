@@ -2692,6 +2692,43 @@ mod tests {
         assert_side_meets_the_other(&polys, (1, 3), &[1e-4, 1e-5, 1e-6], &[1e-3, 1e-6]);
     }
 
+    /// Seed 50 of tests/test_properties.py: over face 2 (the long run's face 3), one start
+    /// piece integrating the visible F had its 7 samples and its children's 28 in the shadows
+    /// of faces 0 and 1, while near a corner up to 1 % of the free F came through the gap
+    /// between them: G 3.7e-6 of itself low at every tol, while the other side was right.
+    /// The gap's edge-edge-edge events are cut along (see `gap_chords` in kinks.rs).
+    #[test]
+    fn a_gap_between_two_shadows_is_cut_along_its_events() {
+        let v = |x: f64, y: f64, z: f64| Vec3::new(x, y, z);
+        let polys = [
+            Polygon::new(vec![
+                v(0.5834344732009976, 0.0, 0.0),
+                v(0.3333333333333333, 0.8134613990200181, 0.2676669448118274),
+                v(0.14437714378005073, -0.3115530688414284, 0.0),
+            ])
+            .unwrap(),
+            Polygon::new(vec![
+                v(-0.05551362362587198, -0.11230303670122699, 0.0),
+                v(0.0, -0.25120451086312146, -0.42556938510445386),
+                v(0.5057808230093057, 0.24216463717099068, 0.0),
+            ])
+            .unwrap(),
+            Polygon::new(vec![
+                v(0.5661550787254854, -0.5259756847622777, 0.9),
+                v(-2.612168588997259e-16, 0.0, -0.12338351339437925),
+                v(1e-14, 0.4693412878996772, -0.5736047901251212),
+            ])
+            .unwrap(),
+            Polygon::new(vec![
+                v(-0.2831793327881308, 0.30925921026087466, -0.6077014464345906),
+                v(0.6490271984464662, 0.33673889207489016, -0.6895780414664165),
+                v(0.0, 0.0, 0.0),
+            ])
+            .unwrap(),
+        ];
+        assert_side_meets_the_other(&polys, (2, 3), &[1e-6, 1e-8], &[1e-3, 1e-6]);
+    }
+
     /// Seed 45's third case of tests/test_properties.py: over face 4 a coarse start piece had
     /// its rule 1.6e-4 off and 3e-7 from its centroid value, the pair 2.7 x tol off at the
     /// default (see COARSE_DEPARTURE_SHARE).
