@@ -1830,6 +1830,28 @@ def test_replay_seed_49_moved():
     _assert_moved_within([np.array(p) for p in SEED_49_MOVED])
 
 
+# Found by the long run with NUSSELT_HYPOTHESIS_SEED=51 (scene test, 42 min, on 34a1e4a; fails
+# on ada6fc6 too). Open: with the obstacle F[4, 3] is 3.7e-6 of the unobstructed F (0.0668)
+# high at the default; at obstructed_tol 1e-8 and 1e-10 the two agree within 6e-11, so an
+# integral claims its goal at the default while 3.7 x off (as seed 49's obstacle case)
+SEED_51_OBSTACLE = (
+    [
+        [[0.0, 0.0, 0.0], [0.0, 0.0, -1.0], [0.0, 1.0, 0.0]],
+        [[0.0, 0.0, 0.0], [0.0, 1.0, 0.0], [1.0, 1.0, 0.0]],
+        [[0.0, 0.0, -0.03125], [0.8125, 0.03125, 0.0], [-0.5, -0.875, 0.0]],
+        [[0.8125, 0.03125, 0.0], [0.625, 0.875, 0.53125], [-0.625, -0.3125, 0.0]],
+        [[0.90625, -0.875, 0.0], [-0.46875, 0.8125, -0.0546875], [-0.75, 1.0, 0.5]],
+    ],
+    [[0.0, 0.0, 0.0], [1.0, 0.0, -1.0], [-0.5, -0.875, 0.0]],
+)
+
+
+@pytest.mark.xfail(strict=True, reason="open: an integral claims the default goal 3.7 x off")
+def test_replay_seed_51_obstacle_raises_f():
+    polys, obstacle = SEED_51_OBSTACLE
+    _assert_obstacle_only_takes_away([np.array(p) for p in polys], np.array(obstacle))
+
+
 # Found by the long run with NUSSELT_HYPOTHESIS_SEED=48 a third time (scene test, 44 min, on
 # 4ab0138): the obstacle raised an F by 1.79 x the slack. Passes since the gaps between two
 # blockers' shadows are cut along their edge-edge-edge events (see seed 50 below)
