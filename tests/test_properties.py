@@ -1807,7 +1807,9 @@ def test_replay_seed_48_nearly_coplanar_faces_moved():
 #   0.65712224510 of the free F in both placements and over face 0 0.65712224518 unmoved,
 #   but 0.65712554164 moved (claiming 3e-10): face 0's integral, the side taken on a
 #   clearance tie (0.05 each), misses a feature in the moved placement only. Face 0 lies
-#   in face 1's plane, back to back with it and inside it.
+#   in face 1's plane, back to back with it and inside it. Brute force over its final leaves
+#   at 1e-8 (each split 4^4 times): all of it in one start piece integrating the visible F,
+#   never split, with a corner at the origin where faces 0-3 meet; 1.6e-4 of itself off.
 SEED_49_OBSTACLE = (
     [
         [[0.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, 1.0, 0.0]],
