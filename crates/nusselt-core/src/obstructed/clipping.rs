@@ -894,21 +894,20 @@ fn adaptive_over_source(
     // quarter of its difference from the leaf's rule: 18 x too small), the pair 2.7 x tol at
     // the default (seed 47 of tests/test_properties.py). The building of bench/scenes.py
     // spends 0.4 % more work units at obstructed_tol 1e-3, 0.01 % at the default.
-    let (rc, rn) = (test.receiver.centroid(), test.receiver.normal());
-    let near_receiver_plane = |t: &[Vec3; 3]| {
+    // how many of t's corners lie on the plane (q, n), within t's rounding
+    let on_plane = |t: &[Vec3; 3], (q, n): (Vec3, Vec3)| {
         let eps = triangle_eps(t);
-        t.iter().any(|x| rn.dot(*x - rc).abs() <= eps)
+        t.iter().filter(|x| n.dot(**x - q).abs() <= eps).count()
     };
+    let receiver_plane = (test.receiver.centroid(), test.receiver.normal());
+    let near_receiver_plane = |t: &[Vec3; 3]| on_plane(t, receiver_plane) >= 1;
     // true where an edge of t lies on a kink plane that holds an edge of the source (see
     // `split_at_kinks_along`): the plane through a receiver edge and a blocker edge bounds
     // the source there, and the hidden (or visible) F can sit in a layer along it. A blocker
     // hovering 1e-8 over the receiver let light through a wedge whose events all lay in the
     // plane of the source's edge: leaves along that edge had their rule 18 % off and claimed
     // 20 x less (the pair 1.3 and 2.1 x tol off at 1e-7 and 1e-8)
-    let along_kink = |t: &[Vec3; 3]| {
-        let eps = triangle_eps(t);
-        along.iter().any(|&(q, n)| t.iter().filter(|x| n.dot(**x - q).abs() <= eps).count() >= 2)
-    };
+    let along_kink = |t: &[Vec3; 3]| along.iter().any(|&plane| on_plane(t, plane) >= 2);
     // The ends of the blockers' traces inside the source (farther than 1e-9 of its size from
     // its outline): there an edge of the blocker pierces the source's plane. A wall standing
     // on a floor patch ends on the patch's edge, and such ends are left out: there the wall

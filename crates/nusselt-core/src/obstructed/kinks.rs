@@ -245,6 +245,29 @@ fn meets_both(x: Vec3, t: Vec3, e: (Vec3, Vec3), f: (Vec3, Vec3)) -> Option<(f64
     Some((meet(e)?, meet(f)?))
 }
 
+/// The transversal from x through the lines of the edges e and f, where it meets the plane
+/// through c with normal n: (that point, its parameter along the transversal, the parameters
+/// where it meets e and f), or None if it runs parallel to the plane or misses either segment
+/// (see [`meets_both`]).
+fn transversal_trace(
+    x: Vec3,
+    e: (Vec3, Vec3),
+    f: (Vec3, Vec3),
+    (c, n): (Vec3, Vec3),
+) -> Option<(Vec3, f64, (f64, f64))> {
+    let t = (e.0 - x).cross(e.1 - x).cross((f.0 - x).cross(f.1 - x));
+    let den = n.dot(t);
+    if !(den.abs() > 0.0) {
+        return None;
+    }
+    let reach = -n.dot(x - c) / den;
+    let p = x + t * reach;
+    if !p.is_finite() {
+        return None;
+    }
+    Some((p, reach, meets_both(x, t, e, f)?))
+}
+
 /// Chords of the conic that the lines meeting the pierced edge v + s l (0 <= s <= 1) and the
 /// edges e and f trace on the source's plane (through c with normal n), from its point V = v:
 /// between the points whose transversals start 1/16, 1/8, 1/4, 1/2 and all of the way along
@@ -260,12 +283,8 @@ fn conic_chords(
 ) {
     let mut prev = v;
     for s in [0.0625, 0.125, 0.25, 0.5, 1.0] {
-        let x = v + l * s;
-        let t = (e.0 - x).cross(e.1 - x).cross((f.0 - x).cross(f.1 - x));
-        let den = n.dot(t);
-        let p = x - t * (n.dot(x - c) / den);
-        let ok = den.abs() > 0.0 && p.is_finite() && meets_both(x, t, e, f).is_some();
-        if !ok || p.distance(prev) <= 1e3 * tol {
+        let Some((p, _, _)) = transversal_trace(v + l * s, e, f, (c, n)) else { break };
+        if p.distance(prev) <= 1e3 * tol {
             break;
         }
         out.push((prev, p));
@@ -301,30 +320,12 @@ fn gap_chords(
     if casting.len() < 2 || casting.len() > MAX_GAP_BLOCKERS {
         return;
     }
-    let (c, n) = (a.centroid(), a.normal());
+    let plane = (a.centroid(), a.normal());
     // (only chords over the source cut anything: the conic runs mostly beside it)
     let source = triangles_of(a);
     let over_source = |x0: Vec3, x1: Vec3| {
-        source.iter().any(|t| {
-            let (mut lo, mut hi) = (0.0_f64, 1.0_f64);
-            for k in 0..3 {
-                let m = n.cross(t[(k + 1) % 3] - t[k]);
-                let (h0, h1) = (m.dot(x0 - t[k]), m.dot(x1 - t[k]));
-                let slack = tol * m.length();
-                if h0 < -slack && h1 < -slack {
-                    return false;
-                }
-                if (h0 < -slack) != (h1 < -slack) {
-                    let s = (-slack - h0) / (h1 - h0);
-                    if h0 < -slack {
-                        lo = lo.max(s);
-                    } else {
-                        hi = hi.min(s);
-                    }
-                }
-            }
-            lo <= hi
-        })
+        let across = (x1 - x0).cross(plane.1).normalize_or_zero();
+        source.iter().any(|t| meets_chord(t, x0, x1, across, tol))
     };
     let edges = |i: usize| {
         let v = blockers[i].vertices();
@@ -333,16 +334,9 @@ fn gap_chords(
     // where the transversal from P through the lines of e and f meets the source's plane, if it
     // meets both segments between P and that plane
     let trace = |p: Vec3, e: (Vec3, Vec3), f: (Vec3, Vec3)| -> Option<Vec3> {
-        let t = (e.0 - p).cross(e.1 - p).cross((f.0 - p).cross(f.1 - p));
-        let den = n.dot(t);
-        if !(den.abs() > 0.0) {
-            return None;
-        }
-        let reach = -n.dot(p - c) / den; // P + reach t lies in the plane
-        let x = p + t * reach;
-        let (se, sf) = meets_both(p, t, e, f)?;
+        let (x, reach, (se, sf)) = transversal_trace(p, e, f, plane)?;
         let between = |s: f64| s * reach.signum() > 0.0 && s.abs() < reach.abs();
-        (x.is_finite() && between(se) && between(sf)).then_some(x)
+        (between(se) && between(sf)).then_some(x)
     };
     for (ii, &i) in casting.iter().enumerate() {
         for &j in &casting[ii + 1..] {
