@@ -943,8 +943,6 @@ fn adaptive_over_source(
         crate::work::spend(bl.len().max(1) as u64);
         part(visible, point(y, bl, visible))
     };
-    // the hidden F at a point
-    let limit = |y: Vec3, bl: &[&Polygon]| corner(y, bl, false);
     // The largest hidden F just inside t at its corners and the midpoints of its edges (1e-6
     // of the way to the centroid), for a leaf descending from a blind start piece whose
     // children's samples are all 0 too. A steep hidden F along an edge or in a corner of the
@@ -957,8 +955,16 @@ fn adaptive_over_source(
     // raised F by 5 x tol at every tol; `a_blind_start_piece_asks_the_limits_at_its_edges`).
     // The building of bench/scenes.py: the same F, 0.35 % more work units at
     // obstructed_tol 1e-3, 0.02 % at the default.
-    let edge_limit =
-        |t: &[Vec3; 3], bl: &[&Polygon]| just_inside(t).map(|y| limit(y, bl)).into_iter().fold(0.0, f64::max);
+    // A leaf of the visible part asks them whether or not a sample is lit: there a gap
+    // between shadows lets light through in a corner, and a sample lit at a rounding's level
+    // says nothing of it. Long-run seed 53: a start piece, 35 samples dark but one at 1e-31,
+    // light coming through within 1.5 % of its size of a corner (visible F 2.4e-5 of a free
+    // 0.43), 1.6e-6 of the hidden part missed, claiming the default goal met; seed 49 moved
+    // likewise (tests/test_properties.py). The building: 1.3 % more work units at 1e-3
+    // (7.00 -> 7.10 M), 0.3 % at the default (124.9 -> 125.2 M), rows as before.
+    let edge_limit = |t: &[Vec3; 3], bl: &[&Polygon], visible: bool| {
+        just_inside(t).map(|y| corner(y, bl, visible)).into_iter().fold(0.0, f64::max)
+    };
     // Radon's samples' quadratic extrapolated to the corners (see EDGE_SHARE)
     let extrapolation = (rule.len() == 7).then(radon7_corner_weights);
     // how far the corner values depart from it (None under the 3-point rule)
@@ -1065,8 +1071,8 @@ fn adaptive_over_source(
         if !l.visible {
             l.err = l.err.max(area3(&l.t) * pierce_limit(&l.t, &l.active, &bl));
         }
-        if l.blind && !l.visible && !lit.get() {
-            l.err = l.err.max(area3(&l.t) * edge_limit(&l.t, &bl));
+        if l.blind && (l.visible || !lit.get()) {
+            l.err = l.err.max(area3(&l.t) * edge_limit(&l.t, &bl, l.visible));
         }
         // (a leaf of either part may carry an edge: see where edges are set)
         if let Some(e) = l.edge {
