@@ -75,7 +75,7 @@ pub(super) fn split_at_kinks_along(
         .filter(|&&(q, n)| (0..v.len()).any(|k| on(q, n, v[k]) && on(q, n, v[(k + 1) % v.len()])))
         .copied()
         .collect();
-    let mut pieces: Vec<Vec<Vec3>> = a.triangulate().iter().map(|t| vec![v[t[0]], v[t[1]], v[t[2]]]).collect();
+    let mut pieces: Vec<Piece> = a.triangulate().iter().map(|t| Piece::new(vec![v[t[0]], v[t[1]], v[t[2]]])).collect();
     // The planes, then the chords (each cutting only the pieces it meets), until the pieces
     // reach MAX_KINK_PIECES: a cut (q, n, the chord's other end) splits the pieces it crosses.
     let na = a.normal();
@@ -83,36 +83,67 @@ pub(super) fn split_at_kinks_along(
         .chain(kinks.chords.iter().map(|&(p0, p1)| (p0, (p1 - p0).cross(na).normalize_or_zero(), Some(p1))))
         .collect();
     // (a piece that a cut would split into overlapping halves stays whole: see cuts_in_two)
-    let splits = |piece: &[Vec3], &(q, n, end): &(Vec3, Vec3, Option<Vec3>)| {
-        cuts_in_two(piece, q, n, kinks.tol) && end.is_none_or(|p1| meets_chord(piece, q, p1, n, kinks.tol))
+    let splits = |piece: &Piece, &(q, n, end): &(Vec3, Vec3, Option<Vec3>)| {
+        !piece.beside(q, n, kinks.tol)
+            && cuts_in_two(&piece.v, q, n, kinks.tol)
+            && end.is_none_or(|p1| meets_chord(&piece.v, q, p1, n, kinks.tol))
     };
     let mut done = 0;
+    let mut halves = Vec::with_capacity(2);
     while done < cuts.len() && pieces.len() < MAX_KINK_PIECES {
-        let mut next = Vec::with_capacity(pieces.len() + 4);
-        for piece in pieces {
-            if splits(&piece, &cuts[done]) {
-                split_by_plane(&piece, cuts[done].0, cuts[done].1, kinks.tol, &mut next);
-            } else {
-                next.push(piece);
+        // (most cuts split few pieces: those before the first are kept where they are)
+        let cut = &cuts[done];
+        if let Some(first) = pieces.iter().position(|p| splits(p, cut)) {
+            let rest = pieces.split_off(first);
+            for (k, piece) in rest.into_iter().enumerate() {
+                if k == 0 || splits(&piece, cut) {
+                    split_by_plane(&piece.v, cut.0, cut.1, kinks.tol, &mut halves);
+                    pieces.extend(halves.drain(..).map(Piece::new));
+                } else {
+                    pieces.push(piece);
+                }
             }
         }
-        pieces = next;
         done += 1;
     }
     // the pieces that a cut left undone crosses (see `kinked` in clipping)
-    let kinked = |piece: &[Vec3]| mark_kinked && cuts[done..].iter().any(|c| splits(piece, c));
+    let kinked = |piece: &Piece| mark_kinked && cuts[done..].iter().any(|c| splits(piece, c));
     // Every piece is convex (a triangle cut by planes): fan triangulation.
     let min_area = 1e-12 * a.area();
     let mut triangles = Vec::with_capacity(2 * pieces.len());
     let mut crossed = Vec::with_capacity(2 * pieces.len());
-    for p in pieces.iter().filter(|p| p.len() >= 3) {
+    for p in pieces.iter().filter(|p| p.v.len() >= 3) {
         let k = kinked(p);
-        for t in fan_triangles(p, min_area) {
+        for t in fan_triangles(&p.v, min_area) {
             triangles.push(t);
             crossed.push(k);
         }
     }
     (triangles, crossed, along)
+}
+
+/// A convex piece of the kink split and the sphere about its vertices' mean that holds them.
+struct Piece {
+    v: Vec<Vec3>,
+    centre: Vec3,
+    radius: f64,
+}
+
+impl Piece {
+    fn new(v: Vec<Vec3>) -> Self {
+        let centre = v.iter().copied().sum::<Vec3>() / v.len().max(1) as f64;
+        let radius = v.iter().map(|x| x.distance(centre)).fold(0.0, f64::max);
+        Piece { v, centre, radius }
+    }
+
+    /// True if every vertex lies more than `tol` from the plane (q, unit n), all on one side,
+    /// by the sphere alone: no cut there (`cuts_in_two` says the same, at the cost of every
+    /// vertex; testing every piece against every cut was 13 % of the building's CPU at
+    /// obstructed_tol 1e-3). The margin covers the rounding of the two dot products.
+    fn beside(&self, q: Vec3, n: Vec3, tol: f64) -> bool {
+        let off = self.centre - q;
+        n.dot(off).abs() > self.radius + tol + 1e-12 * (off.length() + self.radius)
+    }
 }
 
 /// Least ratio of a start piece's longest edge to its least altitude for [`grade_slivers`].
