@@ -654,7 +654,8 @@ pub(crate) struct Shaft {
     /// n.x, n.y, n.z, |n.x|, |n.y|, |n.z|, d - t (padding: 0 normal, limit 1, which never culls).
     blocks: Vec<[[f64; 4]; 7]>,
     points: Vec<Vec3>,
-    tol: f64,
+    /// the rounding of a plane evaluation (see `may_meet_triangle`)
+    rounding: f64,
 }
 
 impl Shaft {
@@ -686,7 +687,8 @@ impl Shaft {
         let size = (hi - lo).length();
         let max_abs = lo.abs().max(hi.abs()).max_element().max(scene_max_abs);
         // Rounding of any plane evaluation is ~ eps * max|x|; keep the tolerance above it.
-        let tol = SHAFT_TOL * size + 64.0 * f64::EPSILON * max_abs;
+        let rounding = 64.0 * f64::EPSILON * max_abs;
+        let tol = SHAFT_TOL * size + rounding;
         let lo_t = lo - Vec3::splat(tol);
         let hi_t = hi + Vec3::splat(tol);
         let mut planes = Vec::new();
@@ -726,7 +728,7 @@ impl Shaft {
                 b
             })
             .collect();
-        Shaft { lo: lo_t, hi: hi_t, blocks, points, tol }
+        Shaft { lo: lo_t, hi: hi_t, blocks, points, rounding }
     }
 
     /// The box [lo, hi] and the hull's bounding box are disjoint.
@@ -778,14 +780,19 @@ impl Shaft {
                 return false;
             }
         }
-        // The triangle's plane separates when every hull vertex is on one side (or on it).
+        // The triangle's plane separates when every hull vertex is on one side (or on it, up
+        // to rounding). Not up to SHAFT_TOL: a source piece within 1e-10 of the pair's size
+        // above a blocker's plane, the receiver below it, sees the receiver through the
+        // blocker; counted as touching it, the piece was taken as hidden from nothing (the
+        // pieces of a sliver along a blocker's plane, 7 % of its hidden G; seed 36 of
+        // tests/test_properties.py).
         let (mut smin, mut smax) = (f64::INFINITY, f64::NEG_INFINITY);
         for p in &self.points {
             let s = (p - v[0]).dot(normal);
             smin = smin.min(s);
             smax = smax.max(s);
         }
-        !(smin >= -self.tol || smax <= self.tol)
+        !(smin >= -self.rounding || smax <= self.rounding)
     }
 }
 

@@ -6,5 +6,5 @@ pub mod closed_forms;
 pub mod lambert;
 pub mod polygon_pair;
 
-pub use lambert::{point_contour, point_polygon};
+pub use lambert::{point_contour, point_polygon, point_polygon_unrouted};
 pub use polygon_pair::{edge_pair_log_integral, polygon_pair, polygon_pair_within};
