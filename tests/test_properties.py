@@ -1887,6 +1887,29 @@ def test_replay_seed_56_moved_at_a_loose_tol():
         assert abs(f - reference) <= tol * free, (tol, (f - reference) / (tol * free))
 
 
+# The same seed rerun on 455b7ac (with the fix above) found a sibling after 12 min: scaled by
+# 1e-6 and moved, F[1, 2] changed by 1.33 x the bound at obstructed_tol 1e-3. Faces 1 and 2
+# share a vertex again and face 0 hides 0.5 % of their unobstructed F (0.41675); F[1, 2] is
+# 0.4146892 (clipping at 1e-10), at 1e-3 1.27 x tol off at the origin and 3.92 x moved, at 1e-4
+# within tol (0.68 and 0.86 x), at the default 0.05 x. Not diagnosed yet: the coarse 3-point
+# start next to a shared vertex (issue 20, item 1) is the suspect.
+SEED_56_SIBLING = [
+    [[0.0, 0.0, -0.5], [1.0, -0.625, 0.0], [0.5, -1.0, 0.75]],
+    [[0.75, -0.875, 0.375], [0.0, 0.0, 0.0], [0.0, 1.0, 0.0]],
+    [[0.75, -0.875, 0.375], [1.0, 0.0, 0.0], [-1.0, 0.0, 0.0]],
+]
+
+
+@pytest.mark.xfail(strict=True, reason="open: 1.3-3.9 x tol at obstructed_tol 1e-3 next to a shared vertex")
+def test_replay_seed_56_sibling_at_a_loose_tol():
+    polys = [np.array(p) for p in SEED_56_SIBLING]
+    free = _free(polys)[1, 2]
+    reference = nusselt.view_factor(polys[1], polys[2], obstacles=[polys[0]], method="clipping", tol=1e-10)
+    for q in (polys, [1e-6 * p + 7e-6 for p in polys]):
+        f = nusselt.form_factors(nusselt.Scene.from_polygons(q), obstructed_tol=1e-3).matrix[1, 2]
+        assert abs(f - reference) <= 1e-3 * free, (f - reference) / (1e-3 * free)
+
+
 # Found by the long run with NUSSELT_HYPOTHESIS_SEED=53 (scene test, 19 min, on 2a94463).
 # Scaled by 1e-6 and moved, F[2, 4] changed by 19.8 x the bound (4.2e-6 for an unobstructed F
 # of 0.105), neither result reporting an error; at obstructed_tol 1e-8 the pair gave 4-5
