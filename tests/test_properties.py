@@ -1880,8 +1880,9 @@ def test_replay_seed_56_moved_at_a_loose_tol():
     polys = [np.array(p) for p in SEED_56]
     _assert_moved_within(polys, tol=1e-3, s=1e-3)
     free = _free(polys)[1, 2]
+    # (that the reference is right, against the integral over face 2: the Rust test
+    # `a_very_steep_leaf_is_not_trusted_on_one_level`)
     reference = nusselt.view_factor(polys[1], polys[2], obstacles=[polys[0]], method="clipping", tol=1e-10)
-    assert abs(reference - 0.4069384) <= 1e-7
     for tol in (1e-2, 1e-3):
         f = nusselt.form_factors(nusselt.Scene.from_polygons(polys), obstructed_tol=tol).matrix[1, 2]
         assert abs(f - reference) <= tol * free, (tol, (f - reference) / (tol * free))
