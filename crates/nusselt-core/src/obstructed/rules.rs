@@ -142,9 +142,37 @@ pub(super) fn radon7_corner_weights() -> &'static [Vec<f64>; 3] {
     WEIGHTS.get_or_init(|| vertex_extrapolation(&radon7()))
 }
 
+/// Weights that give, from a function's values at the points of the interior 3-point rule
+/// (barycentric (2/3, 1/6, 1/6) and its turns, see [`source_rule`](super::clipping)), the
+/// values at the triangle's vertices of the linear function through them: vertex k is
+/// 5/3 times point k less 1/3 times each other point.
+pub(super) fn linear3_corner_weights() -> &'static [Vec<f64>; 3] {
+    static WEIGHTS: std::sync::OnceLock<[Vec<f64>; 3]> = std::sync::OnceLock::new();
+    WEIGHTS
+        .get_or_init(|| std::array::from_fn(|k| (0..3).map(|j| if j == k { 5.0 / 3.0 } else { -1.0 / 3.0 }).collect()))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The 3-point rule's corner weights give a linear function's values at the vertices, and
+    /// not a quadratic's.
+    #[test]
+    fn linear3_corner_weights_are_exact_for_linear_functions() {
+        let (a, b) = (2.0 / 3.0, 1.0 / 6.0);
+        let points = [[a, b, b], [b, a, b], [b, b, a]];
+        let w = linear3_corner_weights();
+        let at =
+            |f: &dyn Fn(&[f64; 3]) -> f64, k: usize| -> f64 { points.iter().zip(&w[k]).map(|(p, wk)| wk * f(p)).sum() };
+        let linear = |p: &[f64; 3]| 0.3 - 1.7 * p[1] + 2.9 * p[2];
+        let quadratic = |p: &[f64; 3]| p[1] * p[1];
+        for (k, v) in [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]].iter().enumerate() {
+            assert!((at(&linear, k) - linear(v)).abs() <= 1e-14, "vertex {k}");
+        }
+        // the plane through 1/36, 4/9, 1/36 at the points gives 13/18 at vertex 1, not 1
+        assert!((at(&quadratic, 1) - 1.0).abs() > 0.1);
+    }
 
     /// Radon's points determine a quadratic: its extrapolation to the vertices is exact for
     /// any quadratic (checked on random ones) and off for a cubic.
