@@ -1895,8 +1895,8 @@ def test_replay_seed_56_moved_at_a_loose_tol():
 # within tol (0.68 and 0.86 x), at the default 0.05 x. Face 1's edge from the shared vertex lies
 # in face 2, and about the point where face 0's plane meets it the hidden F depends on the
 # direction alone: 0.34 along the edge of a start piece of face 1, below 1e-5 at every sample of
-# the 3-point rule there. Such start pieces now compare their corners with their samples'
-# plane (LINEAR_EDGE_SHARE in clipping.rs): 0.006 and 0.035 x tol.
+# the 3-point rule there. Start pieces whose samples spread now compare their corners with
+# their samples' plane (LINEAR_EDGE_SHARE in clipping.rs): 0.006 and 0.035 x tol.
 SEED_56_SIBLING = [
     [[0.0, 0.0, -0.5], [1.0, -0.625, 0.0], [0.5, -1.0, 0.75]],
     [[0.75, -0.875, 0.375], [0.0, 0.0, 0.0], [0.0, 1.0, 0.0]],
