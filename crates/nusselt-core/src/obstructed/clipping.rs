@@ -3,7 +3,8 @@
 
 use super::kinks::{grade_slivers, split_at_kinks_along};
 use super::rules::{
-    area3, centroid3, linear3_corner_weights, radon7, radon7_corner_weights, rule_points, source_points,
+    area3, centroid3, radon7, radon7_corner_weights, rule_points, source_points, strang_fix3,
+    strang_fix3_corner_weights,
 };
 use super::{ClippingOptions, Estimate};
 use crate::geometry::{
@@ -521,8 +522,7 @@ pub(super) const LOW_DEGREE_TOL: f64 = 1e-4;
 /// The triangle rule of the adaptive source integration for a relative target `tol`.
 pub(super) fn source_rule(tol: f64) -> Vec<([f64; 3], f64)> {
     if tol >= LOW_DEGREE_TOL {
-        let (a, b) = (2.0 / 3.0, 1.0 / 6.0);
-        vec![([a, b, b], 1.0 / 3.0), ([b, a, b], 1.0 / 3.0), ([b, b, a], 1.0 / 3.0)]
+        strang_fix3().to_vec()
     } else {
         radon7().to_vec()
     }
@@ -953,6 +953,7 @@ fn adaptive_over_source(
         })
     };
     let rule = source_rule(o.tol);
+    let radon = rule.len() == 7;
     // the rule's point at the centroid, if it has one (Radon's does): the coarse start's
     // centroid value is then that sample (one evaluation of eight saved at tight targets)
     let centroid_sample = rule.iter().position(|(b, _)| *b == [1.0 / 3.0; 3]);
@@ -1044,8 +1045,7 @@ fn adaptive_over_source(
     };
     // Radon's samples' quadratic, or the 3-point rule's samples' plane, extrapolated to the
     // corners (see EDGE_SHARE and LINEAR_EDGE_SHARE)
-    let radon = rule.len() == 7;
-    let extrapolation = if radon { radon7_corner_weights() } else { linear3_corner_weights() };
+    let extrapolation = if radon { radon7_corner_weights() } else { strang_fix3_corner_weights() };
     // how far the corner values depart from it
     let deviation = |e: &Edge| {
         (0..3)
@@ -1158,7 +1158,7 @@ fn adaptive_over_source(
         // (`a_steep_leaf_under_the_equal_weight_rule_is_not_trusted_by_chance`).
         if lo > 0.0 && hi > COARSE_SPREAD * lo {
             // (see VERY_STEEP)
-            if rule.len() == 3 && hi > VERY_STEEP * lo {
+            if !radon && hi > VERY_STEEP * lo {
                 l.err *= 2.0;
             }
             l.err = l.err.max(STEEP_SHARE * linear_gap);
@@ -1194,7 +1194,7 @@ fn adaptive_over_source(
             l.kid_edges = Some(std::array::from_fn(|i| Edge { samples: kid_samples[i], corners: corners[i] }));
         }
         l.kids = Some(kids);
-        if rule.len() == 3 {
+        if !radon {
             l.kid_points = Some(kid_samples.map(|p| [p[0], p[1], p[2]]));
         }
     };
@@ -1276,7 +1276,7 @@ fn adaptive_over_source(
             && !blind
             && !kinked
             && !active.iter().any(|&k| cuts[k].is_some_and(|(p, q)| reaches_into(&t, p, q)));
-        let points = (rule.len() == 3).then(|| [0, 1, 2].map(|j| part(visible, samples[j].2)));
+        let points = (!radon).then(|| [0, 1, 2].map(|j| part(visible, samples[j].2)));
         // (under the 3-point rule where the samples spread only: see LINEAR_EDGE_SHARE)
         let probe = (!blind && (radon || hi > COARSE_SPREAD * lo)).then(|| {
             let inside = just_inside(&t);

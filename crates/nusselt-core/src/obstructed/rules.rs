@@ -94,34 +94,42 @@ pub(super) fn rule_points<'r>(rule: &'r [([f64; 3], f64)], t: &[Vec3; 3]) -> imp
     rule.iter().map(move |(b, w)| (t[0] * b[0] + t[1] * b[1] + t[2] * b[2], area * w))
 }
 
-/// Weights that give, from a function's values at the points of `rule` (barycentric, at least
-/// six in general position), the values at the triangle's three vertices of the quadratic
-/// that fits them best (least squares): where the function is smooth on the triangle these
-/// lie close to its values there, where it changes steeply next to an edge or a corner they
-/// do not.
+/// Strang and Fix's interior 3-point rule of degree 2 on a triangle (barycentric points,
+/// weights summing to 1).
+pub(super) fn strang_fix3() -> [([f64; 3], f64); 3] {
+    let (a, b) = (2.0 / 3.0, 1.0 / 6.0);
+    [([a, b, b], 1.0 / 3.0), ([b, a, b], 1.0 / 3.0), ([b, b, a], 1.0 / 3.0)]
+}
+
+/// Weights that give, from a function's values at the points of `rule` (barycentric, in
+/// general position), the values at the triangle's three vertices of the quadratic that fits
+/// them best (least squares; six points or more), or of the linear function (fewer): where the
+/// function is smooth on the triangle these lie close to its values there, where it changes
+/// steeply next to an edge or a corner they do not.
 pub(super) fn vertex_extrapolation(rule: &[([f64; 3], f64)]) -> [Vec<f64>; 3] {
-    // quadratic basis in the barycentric coordinates (b1, b2)
-    let basis = |b: &[f64; 3]| [1.0, b[1], b[2], b[1] * b[1], b[1] * b[2], b[2] * b[2]];
-    let rows: Vec<[f64; 6]> = rule.iter().map(|(b, _)| basis(b)).collect();
+    // quadratic or linear basis in the barycentric coordinates (b1, b2)
+    let n = if rule.len() >= 6 { 6 } else { 3 };
+    let basis = |b: &[f64; 3]| [1.0, b[1], b[2], b[1] * b[1], b[1] * b[2], b[2] * b[2]][..n].to_vec();
+    let rows: Vec<Vec<f64>> = rule.iter().map(|(b, _)| basis(b)).collect();
     // the normal equations' matrix A^T A, inverted by Gauss-Jordan with partial pivoting
-    let mut m = [[0.0; 12]; 6];
+    let mut m = vec![vec![0.0; 2 * n]; n];
     for (i, mi) in m.iter_mut().enumerate() {
-        for j in 0..6 {
+        for j in 0..n {
             mi[j] = rows.iter().map(|r| r[i] * r[j]).sum();
         }
-        mi[6 + i] = 1.0;
+        mi[n + i] = 1.0;
     }
-    for c in 0..6 {
-        let p = (c..6).max_by(|&a, &b| m[a][c].abs().total_cmp(&m[b][c].abs())).unwrap_or(c);
+    for c in 0..n {
+        let p = (c..n).max_by(|&a, &b| m[a][c].abs().total_cmp(&m[b][c].abs())).unwrap_or(c);
         m.swap(c, p);
         let d = m[c][c];
         for x in m[c].iter_mut() {
             *x /= d;
         }
-        for r in 0..6 {
+        for r in 0..n {
             if r != c {
                 let f = m[r][c];
-                let pivot = m[c];
+                let pivot = m[c].clone();
                 for (x, y) in m[r].iter_mut().zip(pivot) {
                     *x -= f * y;
                 }
@@ -131,8 +139,8 @@ pub(super) fn vertex_extrapolation(rule: &[([f64; 3], f64)]) -> [Vec<f64>; 3] {
     [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]].map(|v| {
         // v^T (A^T A)^-1 A^T, one weight per rule point
         let bv = basis(&v);
-        let coef: [f64; 6] = std::array::from_fn(|j| (0..6).map(|i| bv[i] * m[i][6 + j]).sum());
-        rows.iter().map(|r| r.iter().zip(coef).map(|(a, c)| a * c).sum()).collect()
+        let coef: Vec<f64> = (0..n).map(|j| (0..n).map(|i| bv[i] * m[i][n + j]).sum()).collect();
+        rows.iter().map(|r| r.iter().zip(&coef).map(|(a, c)| a * c).sum()).collect()
     })
 }
 
@@ -142,36 +150,37 @@ pub(super) fn radon7_corner_weights() -> &'static [Vec<f64>; 3] {
     WEIGHTS.get_or_init(|| vertex_extrapolation(&radon7()))
 }
 
-/// Weights that give, from a function's values at the points of the interior 3-point rule
-/// (barycentric (2/3, 1/6, 1/6) and its turns, see [`source_rule`](super::clipping)), the
-/// values at the triangle's vertices of the linear function through them: vertex k is
+/// [`vertex_extrapolation`] of the 3-point rule ([`strang_fix3`]), computed once: vertex k is
 /// 5/3 times point k less 1/3 times each other point.
-pub(super) fn linear3_corner_weights() -> &'static [Vec<f64>; 3] {
+pub(super) fn strang_fix3_corner_weights() -> &'static [Vec<f64>; 3] {
     static WEIGHTS: std::sync::OnceLock<[Vec<f64>; 3]> = std::sync::OnceLock::new();
-    WEIGHTS
-        .get_or_init(|| std::array::from_fn(|k| (0..3).map(|j| if j == k { 5.0 / 3.0 } else { -1.0 / 3.0 }).collect()))
+    WEIGHTS.get_or_init(|| vertex_extrapolation(&strang_fix3()))
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
 
-    /// The 3-point rule's corner weights give a linear function's values at the vertices, and
-    /// not a quadratic's.
+    /// The 3-point rule's corner weights are those of the plane through its points (5/3 and
+    /// -1/3, solved by hand): exact for a linear function, not for a quadratic.
     #[test]
-    fn linear3_corner_weights_are_exact_for_linear_functions() {
-        let (a, b) = (2.0 / 3.0, 1.0 / 6.0);
-        let points = [[a, b, b], [b, a, b], [b, b, a]];
-        let w = linear3_corner_weights();
-        let at =
-            |f: &dyn Fn(&[f64; 3]) -> f64, k: usize| -> f64 { points.iter().zip(&w[k]).map(|(p, wk)| wk * f(p)).sum() };
+    fn strang_fix3_corner_weights_are_those_of_the_plane() {
+        let (rule, w) = (strang_fix3(), strang_fix3_corner_weights());
+        for (k, wk) in w.iter().enumerate() {
+            for (j, x) in wk.iter().enumerate() {
+                let by_hand = if j == k { 5.0 / 3.0 } else { -1.0 / 3.0 };
+                assert!((x - by_hand).abs() <= 1e-14, "vertex {k}, point {j}: {x}");
+            }
+        }
+        let at = |f: &dyn Fn(&[f64; 3]) -> f64, k: usize| -> f64 {
+            rule.iter().zip(&w[k]).map(|((p, _), wk)| wk * f(p)).sum()
+        };
         let linear = |p: &[f64; 3]| 0.3 - 1.7 * p[1] + 2.9 * p[2];
-        let quadratic = |p: &[f64; 3]| p[1] * p[1];
         for (k, v) in [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]].iter().enumerate() {
             assert!((at(&linear, k) - linear(v)).abs() <= 1e-14, "vertex {k}");
         }
         // the plane through 1/36, 4/9, 1/36 at the points gives 13/18 at vertex 1, not 1
-        assert!((at(&quadratic, 1) - 1.0).abs() > 0.1);
+        assert!((at(&|p| p[1] * p[1], 1) - 13.0 / 18.0).abs() <= 1e-14);
     }
 
     /// Radon's points determine a quadratic: its extrapolation to the vertices is exact for
