@@ -35,7 +35,7 @@ pub fn units_done() -> u64 {
     DONE.load(Ordering::Relaxed)
 }
 
-/// Default budget per pair or row: 2^27 units (about 25-150 s of one core: 0.9e6-5.7e6 units/s measured by
+/// Default budget per pair or row: 2^27 units (about 13-95 s of one core: 1.4e6-1.0e7 units/s measured by
 /// `bench/methods.py budget`, docs/guide.md; every method at its default options stays far below it).
 pub const DEFAULT_BUDGET: u64 = 1 << 27;
 
