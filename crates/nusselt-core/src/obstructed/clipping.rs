@@ -1783,22 +1783,9 @@ mod tests {
     /// 1e-3 for 24.4 M spent, so a pair's budget saw under a third of its work.
     #[test]
     fn every_evaluation_counts_against_the_budget() {
-        let polys = [
-            facing_quad(vec![Vec3::ZERO, Vec3::X, Vec3::new(1.0, 1.0, 0.0), Vec3::Y], Vec3::Z),
-            facing_quad(
-                vec![Vec3::Z, Vec3::new(1.0, 0.0, 1.0), Vec3::new(1.0, 1.0, 1.0), Vec3::new(0.0, 1.0, 1.0)],
-                -Vec3::Z,
-            ),
-            facing_quad(
-                vec![
-                    Vec3::new(0.4, 0.4, 0.5),
-                    Vec3::new(0.6, 0.4, 0.5),
-                    Vec3::new(0.6, 0.6, 0.5),
-                    Vec3::new(0.4, 0.6, 0.5),
-                ],
-                Vec3::Z,
-            ),
-        ];
+        use crate::unobstructed::far_field::tests::square;
+        let polys =
+            [square(0.0, 0.0, 1.0, 0.0, true), square(0.0, 0.0, 1.0, 1.0, false), square(0.4, 0.4, 0.2, 0.5, true)];
         for tol in [1e-2, 1e-3] {
             let o = ClippingOptions { tol, ..Default::default() };
             let g = crate::work::metered(1 << 20, String::new, || Ok(clipping(&polys, 0, 1, &o, 1e-12))).unwrap();
