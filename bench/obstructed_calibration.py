@@ -80,7 +80,8 @@ def whole_scene(spec: scenes.Spec, tols: list[float], reference_tol: float, cach
         return tuple(m.toarray() if hasattr(m, "toarray") else np.asarray(m) for m in out)
 
     t0 = cpu()
-    if cache and os.path.exists(cache):
+    cached = bool(cache and os.path.exists(cache))
+    if cached:
         ref, ref_err = np.load(cache)
     else:
         ref, ref_err = dense(reference_tol)
@@ -95,7 +96,7 @@ def whole_scene(spec: scenes.Spec, tols: list[float], reference_tol: float, cach
     i, j, free = i[hidden & ~whole], j[hidden & ~whole], free[hidden & ~whole]
     print(
         f"{spec.name}: {len(i)} pairs partly hidden, {np.sum(whole)} hidden whole (reference at"
-        f" {reference_tol:.0e}: {cpu() - t0:.0f} s of CPU)"
+        f" {reference_tol:.0e}: " + ("from the cache)" if cached else f"{cpu() - t0:.0f} s of CPU)")
     )
     for tol in tols:
         t0 = cpu()
