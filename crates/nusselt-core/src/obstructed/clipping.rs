@@ -3,7 +3,7 @@
 
 use super::kinks::{grade_slivers, split_at_kinks_along};
 use super::rules::{
-    area3, centroid3, radon7, radon7_corner_weights, rule_points, source_points, strang_fix3,
+    area3, aspect, centroid3, longest_edge, radon7, radon7_corner_weights, rule_points, source_points, strang_fix3,
     strang_fix3_corner_weights,
 };
 use super::{ClippingOptions, Estimate};
@@ -627,15 +627,10 @@ fn just_inside(t: &[Vec3; 3]) -> [Vec3; 6] {
     [t[0], t[1], t[2], mids[0], mids[1], mids[2]].map(|x| x + (c - x) * 1e-6)
 }
 
-/// The square of the longest edge of t.
-fn longest_edge_squared(t: &[Vec3; 3]) -> f64 {
-    (0..3).map(|k| t[k].distance_squared(t[(k + 1) % 3])).fold(0.0, f64::max)
-}
-
 /// 1e-9 of triangle t's longest edge: the distance within which [`reaches_into`] counts a
 /// point as on t.
 fn triangle_eps(t: &[Vec3; 3]) -> f64 {
-    1e-9 * t[0].distance(t[1]).max(t[1].distance(t[2])).max(t[2].distance(t[0]))
+    1e-9 * longest_edge(t)
 }
 
 /// True if the segment pq (not a point) comes within `eps` of an edge of triangle t.
@@ -803,13 +798,14 @@ const EDGE_SHARE_TIGHT: f64 = 0.01;
 /// rows within 7.7e-5 (8.1e-5).
 const LINEAR_EDGE_SHARE: f64 = 0.5;
 
-/// Under the 3-point rule the start pieces at least this thin (longest edge squared over
-/// area) compare their corners too, whatever their samples' spread: a sliver's three samples
+/// Under the 3-point rule the start pieces at least this thin ([`aspect`]: longest edge over
+/// least altitude, as the kink split's slivers) compare their corners too, whatever their
+/// samples' spread: a sliver's three samples
 /// lie along its middle, within a few percent of its width of each other, and see nothing of
 /// what happens near its narrow ends. Two sliver start pieces (0.8 x 0.01) of the fuzz pair
 /// above were crossed near their narrow end by the same steep feature, their samples within
 /// 3-fold: each claimed 1e-7 and was 1.4e-5 and 1.8e-5 off (4.83 x tol at 1e-4; 0.26 x now).
-const SLIVER_PROBE: f64 = 50.0;
+const SLIVER_PROBE: f64 = 25.0;
 
 /// Targets below which [`EDGE_SHARE_TIGHT`] applies (the building at the default would spend
 /// 180.2 instead of 146.8 M work units with it).
@@ -941,12 +937,15 @@ fn adaptive_over_source(
             self.err.total_cmp(&o.err)
         }
     }
-    // [methods] work budget: one unit per evaluation and blocker it casts, at every
-    // evaluation (the start pieces' samples too: the building of bench/scenes.py reported
-    // 7.55 M units at obstructed_tol 1e-3 without them, 24.4 M with); cancelled or over
-    // budget, no more evaluations (each casts every active
-    // blocker: 10 000 of them cost milliseconds; the result is discarded, see crate::work)
+    // Every evaluation of the integral, counted (against `max_evals`) and metered here.
+    // [methods] work budget: one unit per evaluation and blocker it casts (the start pieces'
+    // samples too: the building of bench/scenes.py reported 7.55 M units at obstructed_tol
+    // 1e-3 without them, 24.4 M with); cancelled or over budget, no more evaluations (each
+    // casts every active blocker: 10 000 of them cost milliseconds; the result is discarded,
+    // see crate::work)
+    let evals = std::cell::Cell::new(0usize);
     let point = |x: Vec3, bl: &[&Polygon], visible: bool| {
+        evals.set(evals.get() + 1);
         if crate::work::spend(bl.len().max(1) as u64) {
             (integrand.point)(x, bl, visible)
         } else {
@@ -970,12 +969,10 @@ fn adaptive_over_source(
     // a free F too small for the share of it visible to say anything (see UNINFORMATIVE)
     let below_rounding =
         |x: Vec3, free: Option<f64>| free.is_some_and(|f| f <= UNINFORMATIVE * VISIBLE_ROUNDING * coords(x));
-    let evals = std::cell::Cell::new(0usize);
     // some point 1e-6 inside t's corners or edge midpoints sees a free F above rounding and
     // more than a small share of it (see UNINFORMATIVE)
     let seen_at_edges = |t: &[Vec3; 3], bl: &[&Polygon]| {
         just_inside(t).into_iter().any(|y| {
-            evals.set(evals.get() + 1);
             let v = point(y, bl, true);
             !below_rounding(y, v.1) && !mostly_hidden(y, v)
         })
@@ -1036,18 +1033,14 @@ fn adaptive_over_source(
         let mut most = 0.0_f64;
         for e in active.iter().flat_map(|&k| &pierce[k]).filter(|&&e| inside_triangle(t, e, eps)) {
             for x in t.iter().chain([&c]).filter(|x| x.distance(*e) > eps) {
-                evals.set(evals.get() + 1);
                 most = most.max(point(*e + (*x - *e) * 1e-6, bl, false).0);
             }
         }
         most
     };
     let pick = |active: &[usize]| active.iter().map(|&k| casters[k]).collect::<Vec<&Polygon>>();
-    // the integrand of a hidden or a visible leaf at a point (one evaluation, counted)
-    let corner = |y: Vec3, bl: &[&Polygon], visible: bool| {
-        evals.set(evals.get() + 1);
-        part(visible, point(y, bl, visible))
-    };
+    // the integrand of a hidden or a visible leaf at a point
+    let corner = |y: Vec3, bl: &[&Polygon], visible: bool| part(visible, point(y, bl, visible));
     // The largest hidden F just inside t at its corners and the midpoints of its edges (1e-6
     // of the way to the centroid), for a leaf descending from a blind start piece whose
     // children's samples are all 0 too. A steep hidden F along an edge or in a corner of the
@@ -1141,7 +1134,6 @@ fn adaptive_over_source(
             linear_gap += (sum - area3(&k[i]) * mean / rule.len() as f64).abs();
             sum
         });
-        evals.set(evals.get() + 4 * rule.len());
         // |kids - whole| bounds the coarse value's error; the kids' sum (what is returned) is
         // better by 2^6 on smooth pieces and by 2^3 next to an unsplit kink: count a quarter.
         // A leaf whose samples are partly 0 holds the edge of the region the shadow reaches,
@@ -1242,7 +1234,6 @@ fn adaptive_over_source(
         let bl = pick(&active);
         samples.clear();
         samples.extend(rule_points(&rule, &t).map(|(x, w)| (x, w, point(x, &bl, false))));
-        evals.set(evals.get() + rule.len());
         let (lo, hi) = bounds(samples.iter().map(|s| s.2 .0));
         // (the free F only where the hidden part is steep: a contour sum per sample saved)
         if hi > COARSE_SPREAD * lo && lo > 0.0 {
@@ -1304,8 +1295,7 @@ fn adaptive_over_source(
         let points = (!radon).then(|| [0, 1, 2].map(|j| part(visible, samples[j].2)));
         // (under the 3-point rule where the samples spread, or on a sliver: see
         // LINEAR_EDGE_SHARE and SLIVER_PROBE)
-        let sliver = || longest_edge_squared(&t) > SLIVER_PROBE * area3(&t);
-        let probe = (!blind && (radon || hi > COARSE_SPREAD * lo || sliver())).then(|| {
+        let probe = (!blind && (radon || hi > COARSE_SPREAD * lo || aspect(&t) > SLIVER_PROBE)).then(|| {
             let inside = just_inside(&t);
             Edge {
                 samples: std::array::from_fn(|j| samples.get(j).map_or(0.0, |s| part(visible, s.2))),
@@ -1338,10 +1328,7 @@ fn adaptive_over_source(
             // children only where needed (see COARSE_START_TOL)
             let c = match centroid_sample {
                 Some(k) => part(visible, samples[k].2),
-                None => {
-                    evals.set(evals.get() + 1);
-                    part(visible, point(centroid3(&t), &bl, visible))
-                }
+                None => part(visible, point(centroid3(&t), &bl, visible)),
             };
             let centre = area3(&t) * c;
             if most.max(c) <= COARSE_SPREAD * least.min(c) {
@@ -1792,8 +1779,8 @@ mod tests {
 
     /// Every point evaluation counts against the pair's work budget, the start pieces' samples
     /// too: two unit squares 1 apart and a centred square blocker, the source integral at
-    /// loose targets (every start piece coarse, at least 3 samples on each of at least 2 pieces,
-    /// each casting the one blocker) spends more than 5 units. The start pieces' samples were
+    /// loose targets (at least 3 samples on each of at least 2 start pieces, each casting the
+    /// one blocker) spends more than 5 units. The start pieces' samples were
     /// not counted: the building of bench/scenes.py reported 7.55 M units at obstructed_tol
     /// 1e-3 for 24.4 M spent, so a pair's budget saw under a third of its work.
     #[test]

@@ -87,6 +87,18 @@ pub(super) fn radon7() -> [([f64; 3], f64); 7] {
     ]
 }
 
+/// The longest edge of triangle t.
+pub(super) fn longest_edge(t: &[Vec3; 3]) -> f64 {
+    t[0].distance(t[1]).max(t[1].distance(t[2])).max(t[2].distance(t[0]))
+}
+
+/// How thin triangle t is: its longest edge over its least altitude (2/sqrt(3) for an
+/// equilateral one, without bound for a sliver).
+pub(super) fn aspect(t: &[Vec3; 3]) -> f64 {
+    let l = longest_edge(t);
+    l * l / (2.0 * area3(t))
+}
+
 /// A triangle rule (barycentric points, weights summing to 1) mapped onto `t`: points and
 /// weights summing to its area.
 pub(super) fn rule_points<'r>(rule: &'r [([f64; 3], f64)], t: &[Vec3; 3]) -> impl Iterator<Item = (Vec3, f64)> + 'r {
