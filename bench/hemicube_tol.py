@@ -9,8 +9,8 @@ obstructed_tol=1e-2, whose entries are within about 2e-6: docs/scale.md).
 from __future__ import annotations
 
 import os
-import resource
 import sys
+import time
 
 import numpy as np
 
@@ -28,15 +28,10 @@ SETTINGS = [
 ]
 
 
-def cpu() -> float:
-    r = resource.getrusage(resource.RUSAGE_SELF)
-    return r.ru_utime + r.ru_stime
-
-
 def run(scene, method, **opts):
-    t = cpu()
+    t = time.process_time()
     res = nusselt.form_factors(scene, method=method, progress=False, **opts)
-    return res, cpu() - t
+    return res, time.process_time() - t
 
 
 def main() -> None:

@@ -21,7 +21,6 @@ from __future__ import annotations
 
 import argparse
 import os
-import resource
 import sys
 import time
 
@@ -33,16 +32,11 @@ import scenes  # noqa: E402
 import nusselt  # noqa: E402
 
 
-def cpu() -> float:
-    r = resource.getrusage(resource.RUSAGE_SELF)
-    return r.ru_utime + r.ru_stime
-
-
 def run(spec: scenes.Spec, method: str, opts: dict):
     scene = spec.scene()
-    c0, t0, u0 = cpu(), time.perf_counter(), nusselt._core.work_units()
+    c0, t0, u0 = time.process_time(), time.perf_counter(), nusselt._core.work_units()
     res = nusselt.form_factors(scene, method=method, **opts)
-    return scene, res, cpu() - c0, time.perf_counter() - t0, nusselt._core.work_units() - u0
+    return scene, res, time.process_time() - c0, time.perf_counter() - t0, nusselt._core.work_units() - u0
 
 
 def dense(res):

@@ -16,8 +16,8 @@ from __future__ import annotations
 import argparse
 import os
 import pathlib
-import resource
 import sys
+import time
 
 os.environ.setdefault("RAYON_NUM_THREADS", "1")
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
@@ -27,11 +27,6 @@ from scenes import urban  # noqa: E402
 import nusselt  # noqa: E402
 
 
-def cpu() -> float:
-    r = resource.getrusage(resource.RUSAGE_SELF)
-    return r.ru_utime + r.ru_stime
-
-
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--k", type=int, default=12)
@@ -39,10 +34,10 @@ def main() -> None:
     args = ap.parse_args()
 
     spec = urban(args.k)
-    c0 = cpu()
+    c0 = time.process_time()
     scene = spec.scene()
     res = nusselt.form_factors(scene, method="raytrace", rays=args.rays)
-    dt = cpu() - c0
+    dt = time.process_time() - c0
     n = len(spec.polygons)
     rays = n * args.rays
     sums = res.matrix.sum(axis=1)

@@ -26,8 +26,8 @@ from __future__ import annotations
 
 import argparse
 import pathlib
-import resource
 import sys
+import time
 
 import numpy as np
 
@@ -43,19 +43,14 @@ EXACT = {
 TARGETS = (1e-2, 3e-3, 1e-3, 3e-4, 1e-4)
 
 
-def _cpu() -> float:
-    r = resource.getrusage(resource.RUSAGE_SELF)
-    return r.ru_utime + r.ru_stime
-
-
 def sampled_rows(scene, rows: np.ndarray, rays: int) -> tuple[np.ndarray, float]:
     """Dense raytrace rows and the CPU seconds per row."""
     from nusselt.methods import resolve
 
     _, full = resolve("raytrace", {"rays": rays})
-    c0 = _cpu()
+    c0 = time.process_time()
     ip, idx, val = scene._core.full_rows(rows.astype(np.int64), "raytrace", full)[:3]
-    cpu = (_cpu() - c0) / len(rows)
+    cpu = (time.process_time() - c0) / len(rows)
     dense = np.zeros((len(rows), len(scene)))
     for a in range(len(rows)):
         dense[a, idx[ip[a] : ip[a + 1]]] = val[ip[a] : ip[a + 1]]
@@ -74,9 +69,9 @@ def main() -> None:
     spec = (urban(2 if args.quick else 4)) if args.scene == "urban" else building()
     scene = spec.scene()
     n = len(scene)
-    c0 = _cpu()
+    c0 = time.process_time()
     ref = nusselt.form_factors(scene, method="auto", **EXACT[args.scene])
-    exact_row = (_cpu() - c0) / n
+    exact_row = (time.process_time() - c0) / n
     dense_ref = ref.matrix
     rng = np.random.default_rng(1)
     rows = np.sort(rng.choice(n, min(args.rows, n), replace=False))

@@ -35,11 +35,11 @@ import json
 import os
 import pathlib
 import re
-import resource
 import shutil
 import subprocess
 import sys
 import tempfile
+import time
 
 import numpy as np
 
@@ -102,11 +102,11 @@ def reference_surfaces(k: int) -> tuple[np.ndarray, list[str], float]:
     """The exact surface matrix from urban(k) computed whole at SURFACE_REFERENCE; CPU s."""
     import nusselt
 
-    c0 = _cpu()
+    c0 = time.process_time()
     spec = urban(k)
     res = nusselt.form_factors(spec.scene(), method="auto", **SURFACE_REFERENCE)
     names = list(res.surface_names)
-    return surface_matrix(res.matrix, res.areas, res.surface, len(names)), names, _cpu() - c0
+    return surface_matrix(res.matrix, res.areas, res.surface, len(names)), names, time.process_time() - c0
 
 
 def whole_check(k: int) -> dict:
@@ -114,11 +114,11 @@ def whole_check(k: int) -> dict:
     import nusselt
 
     scene = urban(k).scene()
-    c0 = _cpu()
+    c0 = time.process_time()
     run = nusselt.form_factors(scene, method="auto", **RUN)
-    c1 = _cpu()
+    c1 = time.process_time()
     ref = nusselt.form_factors(scene, method="auto", **ROW_REFERENCE)
-    c2 = _cpu()
+    c2 = time.process_time()
     return {
         "patches": len(scene),
         "run_cpu_s": c1 - c0,
@@ -126,11 +126,6 @@ def whole_check(k: int) -> dict:
         "max_entry_err": float(abs(run.matrix - ref.matrix).max()),
         "max_row_sum_err": float(np.abs(run.row_sums - ref.row_sums).max()),
     }
-
-
-def _cpu() -> float:
-    r = resource.getrusage(resource.RUSAGE_SELF)
-    return r.ru_utime + r.ru_stime
 
 
 def timed_run(obj: pathlib.Path, out: pathlib.Path, threads: int, extra: list[str]) -> dict:
@@ -194,9 +189,9 @@ def main() -> None:
         saved.write_text(json.dumps(run))
     print(json.dumps(run), flush=True)
     rows = sample_rows(args.k, args.rows)
-    c0 = _cpu()
+    c0 = time.process_time()
     fref = reference_rows(spec, rows)
-    ref_cpu = _cpu() - c0
+    ref_cpu = time.process_time() - c0
     ks = [int(x) for x in args.surface_k.split(",")]
     sref, names, sref_cpu = reference_surfaces(ks[0])
     consistency = {}
