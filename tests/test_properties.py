@@ -2195,3 +2195,48 @@ def test_replay_seed_61_obstacle_through_a_hinge_raises_f():
 @pytest.mark.xfail(strict=True, reason="seed 61: a face 1e-12 out of the plane through a hinge")
 def test_replay_seed_61_hinge_scaled_and_moved():
     _assert_moved_within([np.array(p) for p in SEED_61_POLYS])
+
+
+# Found by the long run with NUSSELT_HYPOTHESIS_SEED=63 (scene test, after 36 min, on 9109f8c and
+# as far back as e8a613f). At obstructed_tol 1e-3, F[0, 4] was 3.4097e-5 for 3.5495e-5, 2.5 x the
+# target low, while the scene scaled by 1e-6 and moved met it: over face 0, a start piece hidden
+# whole from face 4, its three samples 2.7-fold apart, kept the coarse estimate of its hidden part
+# (12 % high). See VISIBLE_SPREAD_LINEAR in obstructed/clipping.rs.
+SEED_63_POLYS = [
+    [
+        [0.0, 0.0, 0.0],
+        [0.4963909986989725, 0.0, 0.48916857966083893],
+        [-0.4462023292954477, -0.9685899589081393, 0.49090201057060523],
+    ],
+    [
+        [0.0, 0.8323927916661442, -0.6794596292833313],
+        [0.0, -0.6828418250427766, -0.605756203842032],
+        [-0.12234379998886546, 1e-12, 0.7266535689310558],
+    ],
+    [
+        [0.5412756564101509, 0.4970412022116013, 5e-324],
+        [0.5680459082084659, -0.9999999999999999, -0.4404649102103292],
+        [-0.12565265960291794, -1.2598012284350193e-118, -0.17194676756353],
+    ],
+    [
+        [0.07454692760374626, 0.0, -0.380977129367538],
+        [6.190028139677765e-96, 5.960464477539063e-08, 0.9375],
+        [-0.4462023292954477, -0.9685899589081393, 0.49090201057060523],
+    ],
+    [
+        [-0.216234854666985, -0.3333333333333333, -0.25903958579530284],
+        [-0.31758478202177665, -0.23655274232290657, 0.0],
+        [0.0, 5.960464477539063e-08, 0.9375],
+    ],
+]
+
+
+def test_replay_seed_63_piece_hidden_whole_at_a_loose_target():
+    polys = [np.array(p) for p in SEED_63_POLYS]
+    _assert_moved_within(polys, tol=1e-3)
+    # against the default target, 1000 x tighter
+    scene = nusselt.Scene.from_polygons(polys)
+    loose = nusselt.form_factors(scene, obstructed_tol=1e-3).matrix
+    tight = nusselt.form_factors(scene).matrix
+    loose, tight = (m.toarray() if hasattr(m, "toarray") else np.asarray(m) for m in (loose, tight))
+    assert (np.abs(loose - tight) <= 1e-3 * _free(polys) + 1e-15).all()
