@@ -854,9 +854,10 @@ struct Pieces<'a> {
 /// criterion spends the refinement along those lines only as far as the total error needs
 /// it (a local criterion would refine them without end).
 ///
-/// A start piece whose hidden samples differ by more than [`COARSE_SPREAD`] and each leave at
-/// most [`VISIBLE_SHARE`] of the point F visible integrates the visible part instead, and
-/// counts its exact unobstructed G minus that as hidden: where a receiver touching the source
+/// A start piece whose hidden samples differ by more than [`COARSE_SPREAD`] (under the 3-point
+/// rule [`VISIBLE_SPREAD_LINEAR`]) and each leave at most [`VISIBLE_SHARE`] of the point F
+/// visible integrates the visible part instead, and counts its exact unobstructed G minus that
+/// as hidden: where a receiver touching the source
 /// is hidden (nearly) whole, the hidden part carries the kernel's steep rise towards the
 /// shared vertex or edge, the visible part is 0 or small and smooth (an obstacle that turned
 /// the integral to such a side put F 2.0e-7 above its exact 0, 1.1e-4 of the unobstructed F,
