@@ -4,7 +4,7 @@
 use super::kinks::{grade_slivers, split_at_kinks_along};
 use super::rules::{
     area3, aspect, centroid3, longest_edge, radon7, radon7_corner_weights, rule_points, source_points, strang_fix3,
-    strang_fix3_corner_weights,
+    strang_fix3_corner_weights, width,
 };
 use super::{ClippingOptions, Estimate};
 use crate::geometry::{
@@ -417,11 +417,6 @@ const SMALL_SIDE: f64 = 1e-2;
 fn far_smaller(p: &Polygon, q: &Polygon) -> bool {
     let (rp, rq) = (p.radius(), q.radius());
     rp <= SMALL_SIDE * rq || width(p) <= SMALL_SIDE * width(q)
-}
-
-/// A polygon's width: its area over its radius (about its least extent).
-fn width(p: &Polygon) -> f64 {
-    p.area() / p.radius()
 }
 
 /// The clearance `c` of polygon `p` (relative to its radius, see [`clearance`]) relative to

@@ -1,7 +1,7 @@
 //! The kink lines of the visible-region F over a source: where the adaptive source
 //! integration starts from cut pieces instead of chasing a kink by refinement.
 
-use super::rules::area3;
+use super::rules::{area3, width};
 use crate::geometry::{
     crosses_plane, cuts_in_two, segment_distance, split_by_plane, triangles_of, within_triangles, Polygon, Vec3,
 };
@@ -520,11 +520,8 @@ const KINK_TOL_ULPS: f64 = 1e4;
 
 fn kink_planes(a: &Polygon, receiver: &Polygon, blockers: &[&Polygon], casting: &[usize]) -> Kinks {
     let scale = a.radius() + receiver.radius() + a.centroid().distance(receiver.centroid());
-    let av = a.vertices();
-    let longest = (0..av.len()).map(|k| av[k].distance(av[(k + 1) % av.len()])).fold(0.0, f64::max);
-    let width = 2.0 * a.area() / longest.max(f64::MIN_POSITIVE);
-    let coords = av.iter().chain(receiver.vertices()).fold(0.0_f64, |m, x| m.max(x.abs().max_element()));
-    let tol = (KINK_TOL * scale.min(width)).max(KINK_TOL_ULPS * f64::EPSILON * coords);
+    let coords = a.vertices().iter().chain(receiver.vertices()).fold(0.0_f64, |m, x| m.max(x.abs().max_element()));
+    let tol = (KINK_TOL * scale.min(width(a))).max(KINK_TOL_ULPS * f64::EPSILON * coords);
     let mut planes: Vec<(Vec3, Vec3)> = Vec::new();
     let mut add = |q: Vec3, n: Vec3| {
         let len = n.length();

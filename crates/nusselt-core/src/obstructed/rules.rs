@@ -99,6 +99,12 @@ pub(super) fn aspect(t: &[Vec3; 3]) -> f64 {
     l * l / (2.0 * area3(t))
 }
 
+/// A polygon's width: its area over its radius (about its least extent; for a needle, its
+/// width across).
+pub(super) fn width(p: &Polygon) -> f64 {
+    p.area() / p.radius()
+}
+
 /// A triangle rule (barycentric points, weights summing to 1) mapped onto `t`: points and
 /// weights summing to its area.
 pub(super) fn rule_points<'r>(rule: &'r [([f64; 3], f64)], t: &[Vec3; 3]) -> impl Iterator<Item = (Vec3, f64)> + 'r {
